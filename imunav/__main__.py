@@ -1,0 +1,5 @@
+import sys
+
+from imunav.cli import main
+
+sys.exit(main())

@@ -1,0 +1,131 @@
+"""Command line: ``imunav simulate | navigate | reproduce`` (also ``python -m imunav``).
+
+User errors exit with status 2 and a single line ``imunav: error: …`` (no traceback).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from imunav.errors import ImunavError, check_positive
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # argparse's own usage errors: same one-line form, status 2
+        self.exit(2, f"imunav: error: {message}\n")
+
+
+def _positive(name):
+    def conv(text):
+        try:
+            return check_positive(float(text), name)
+        except (ValueError, ImunavError) as exc:
+            raise argparse.ArgumentTypeError(str(exc)) from None
+
+    return conv
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from imunav.strapdown import ALGORITHMS
+
+    p = _Parser(prog="imunav", description=__doc__.splitlines()[0])
+    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    s = sub.add_parser("simulate", help="ideal IMU signals from MOTION.toml")
+    s.add_argument("motion", metavar="MOTION.toml")
+    s.add_argument("--rate", required=True, type=_positive("--rate"), metavar="HZ")
+    s.add_argument("--out", required=True, metavar="SIGNALS.csv")
+    s.add_argument("--output", choices=("rates", "increments"), default="rates")
+    s.add_argument("--truth", metavar="TRUTH.csv", help="also write the true states at t_k")
+    s.add_argument("--g", type=_positive("--g"), metavar="G",
+                   help="gravity (m/s²); default the motion file's g or 9.80665")
+
+    names = sorted({n for table in ALGORITHMS.values() for n in table})
+    n = sub.add_parser("navigate", help="integrate SIGNALS.csv from the initial state")
+    n.add_argument("signals", metavar="SIGNALS.csv")
+    n.add_argument("--initial", required=True, metavar="TRUTH.csv",
+                   help="its first row is the initial state")
+    n.add_argument("--out", required=True, metavar="NAV.csv")
+    n.add_argument("--algorithm", choices=names, metavar="NAME",
+                   help="one of " + ", ".join(names) + "; default the most accurate for the kind")
+    n.add_argument("--g", type=_positive("--g"), metavar="G", help="gravity (m/s²), 9.80665")
+
+    r = sub.add_parser("reproduce", help="regenerate every reproduction figure and record")
+    r.add_argument("--out", default="figures", metavar="DIR")
+    return p
+
+
+def _same_file(a: str, b: str) -> bool:
+    try:
+        return Path(a).resolve() == Path(b).resolve()
+    except OSError:
+        return False
+
+
+def cmd_simulate(args) -> int:
+    from imunav.io import load_motion_toml, write_signals, write_states
+    from imunav.motion import G0
+    from imunav.simulate import simulate_imu, truth_states
+
+    if _same_file(args.out, args.motion) or (args.truth and _same_file(args.truth, args.motion)):
+        raise ImunavError("output file would overwrite the motion file")
+    motion, duration, g_file = load_motion_toml(args.motion)
+    g = args.g if args.g is not None else (g_file if g_file is not None else G0)
+    sig = simulate_imu(motion, args.rate, duration, output=args.output, g=g)
+    write_signals(args.out, sig)
+    if args.truth:
+        t = np.arange(int(round(duration * args.rate)) + 1) / args.rate
+        tr = truth_states(motion, t)
+        write_states(args.truth, tr.t, tr.position, tr.velocity, tr.quaternion)
+    print(f"wrote {len(sig)} {sig.kind} rows at {args.rate:g} Hz to {args.out}")
+    return 0
+
+
+def cmd_navigate(args) -> int:
+    from imunav.io import read_signals, read_states, write_states
+    from imunav.strapdown import ALGORITHMS, navigate
+
+    for other in (args.signals, args.initial):
+        if _same_file(args.out, other):
+            raise ImunavError(f"--out {args.out} would overwrite an input file")
+    sig = read_signals(args.signals, g=args.g)
+    init = read_states(args.initial)
+    if args.algorithm and args.algorithm not in ALGORITHMS[sig.kind]:
+        raise ImunavError(
+            f"algorithm {args.algorithm!r} does not take {sig.kind}; choose one of "
+            f"{', '.join(sorted(ALGORITHMS[sig.kind]))}"
+        )
+    res = navigate(sig, init["quaternion"][0], init["velocity"][0], init["position"][0],
+                   algorithm=args.algorithm)
+    write_states(args.out, res.t, res.position, res.velocity, res.quaternion)
+    print(f"wrote {len(res.t)} navigation rows ({res.algorithm}) to {args.out}")
+    return 0
+
+
+def cmd_reproduce(args) -> int:
+    from imunav.reproduce import format_table, reproduce_all
+
+    records = reproduce_all(args.out)
+    print(format_table(records))
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return {"simulate": cmd_simulate, "navigate": cmd_navigate,
+                "reproduce": cmd_reproduce}[args.command](args)
+    except ImunavError as exc:
+        print(f"imunav: error: {exc}", file=sys.stderr)
+        return 2
+    except OSError as exc:  # unreadable/unwritable paths
+        print(f"imunav: error: {exc.strerror or exc}: {exc.filename}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,72 @@
+"""User-facing errors and the input checks that raise them.
+
+Every check names the argument, what was expected and what came, so that a bad input
+never surfaces as a traceback from deep inside numpy.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import numpy.typing as npt
+
+
+class ImunavError(ValueError):
+    """Bad input to imunav: the message names the argument and what was expected."""
+
+
+def as_float_array(x: npt.ArrayLike, name: str, *, last: int | None = None,
+                   ndim: int | None = None, min_ndim: int = 0) -> np.ndarray:
+    """Convert ``x`` to a finite float64 array and check its shape.
+
+    Parameters
+    ----------
+    x : array_like
+    name : str
+        The argument's name, used in error messages.
+    last : int, optional
+        Required size of the last axis (e.g. 3 for vectors, 4 for quaternions).
+    ndim : int, optional
+        Required number of dimensions.
+    min_ndim : int
+        Minimum number of dimensions.
+    """
+    try:
+        a = np.asarray(x, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise ImunavError(f"{name} must be numeric, got {type(x).__name__}: {exc}") from None
+    if ndim is not None and a.ndim != ndim:
+        raise ImunavError(f"{name} must have {ndim} dimension(s), got shape {a.shape}")
+    if a.ndim < min_ndim:
+        raise ImunavError(f"{name} must have at least {min_ndim} dimension(s), got shape {a.shape}")
+    if last is not None and (a.ndim == 0 or a.shape[-1] != last):
+        want = "(..., %d)" % last if ndim is None else "(" + "N, " * (ndim - 1) + f"{last})"
+        raise ImunavError(f"{name} must have shape {want}, got {a.shape}")
+    if not np.all(np.isfinite(a)):
+        bad = np.argwhere(~np.isfinite(a))[0]
+        raise ImunavError(f"{name} contains NaN or inf (first at index {tuple(int(i) for i in bad)})")
+    return a
+
+
+def check_positive(value: float, name: str) -> float:
+    """Return ``value`` as float if it is finite and > 0, else raise ImunavError."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ImunavError(f"{name} must be a positive number, got {value!r}") from None
+    if not np.isfinite(v) or v <= 0:
+        raise ImunavError(f"{name} must be a positive finite number, got {value!r}")
+    return v
+
+
+def check_time(t: npt.ArrayLike, name: str = "t") -> np.ndarray:
+    """A 1-D finite, strictly increasing time vector."""
+    a = as_float_array(t, name, ndim=1)
+    if a.size >= 2:
+        d = np.diff(a)
+        if np.any(d <= 0):
+            i = int(np.argmax(d <= 0))
+            raise ImunavError(
+                f"{name} must be strictly increasing; {name}[{i + 1}] = {a[i + 1]!r} "
+                f"does not exceed {name}[{i}] = {a[i]!r}"
+            )
+    return a

@@ -1,0 +1,264 @@
+"""Rotations core: Hamilton quaternions (scalar first), DCMs, Z-Y-X Euler angles, rotation vectors.
+
+All functions are vectorised over leading axes: quaternions have shape ``(..., 4)`` as
+``[w, x, y, z]``, vectors ``(..., 3)``, matrices ``(..., 3, 3)``. ``q_nb`` rotates body vectors
+into the navigation frame, ``v_n = q ⊗ v_b ⊗ q*`` and ``C_nb = quat_to_dcm(q_nb)``.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import numpy.typing as npt
+from numpy.typing import NDArray
+
+from imunav.errors import ImunavError, as_float_array
+
+FloatArray = NDArray[np.float64]
+
+#: ``|cos θ|`` below which Z-Y-X Euler angles are treated as gimbal-locked.
+GIMBAL_LOCK_TOL = 1e-7
+
+
+class GimbalLockWarning(UserWarning):
+    """Pitch is at ±90°: yaw and roll are not separable; roll is set to 0."""
+
+
+def quat_mul(p: npt.ArrayLike, q: npt.ArrayLike) -> FloatArray:
+    """Hamilton product ``p ⊗ q`` (scalar first), broadcasting over leading axes.
+
+    ``i ⊗ j = k``, ``j ⊗ i = −k``, ``i ⊗ j ⊗ k = −1``. The rotation ``p ⊗ q`` applies ``q``
+    first, then ``p`` (as matrices: ``C(p ⊗ q) = C(p) C(q)``).
+    """
+    p = as_float_array(p, "p", last=4)
+    q = as_float_array(q, "q", last=4)
+    return _mul(p, q)
+
+
+def _mul(p: FloatArray, q: FloatArray) -> FloatArray:
+    # Unchecked kernel for internal hot paths.
+    pw, px, py, pz = p[..., 0], p[..., 1], p[..., 2], p[..., 3]
+    qw, qx, qy, qz = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    return np.stack(
+        [
+            pw * qw - px * qx - py * qy - pz * qz,
+            pw * qx + px * qw + py * qz - pz * qy,
+            pw * qy - px * qz + py * qw + pz * qx,
+            pw * qz + px * qy - py * qx + pz * qw,
+        ],
+        axis=-1,
+    )
+
+
+def quat_conj(q: npt.ArrayLike) -> FloatArray:
+    """Conjugate ``q* = [w, −x, −y, −z]`` (the inverse of a unit quaternion)."""
+    q = as_float_array(q, "q", last=4)
+    return q * np.array([1.0, -1.0, -1.0, -1.0])
+
+
+def quat_normalize(q: npt.ArrayLike) -> FloatArray:
+    """Scale ``q`` to unit norm; a zero quaternion is an error."""
+    q = as_float_array(q, "q", last=4)
+    n = np.linalg.norm(q, axis=-1, keepdims=True)
+    if np.any(n == 0):
+        raise ImunavError("q must have non-zero norm to be normalised, got a zero quaternion")
+    return q / n
+
+
+def quat_rotate(q: npt.ArrayLike, v: npt.ArrayLike) -> FloatArray:
+    """Rotate vectors: ``q ⊗ [0, v] ⊗ q*`` for unit ``q`` (shape ``(..., 3)``).
+
+    With ``q = q_nb`` this takes body-frame vectors to the navigation frame.
+    """
+    q = quat_normalize(q)
+    v = as_float_array(v, "v", last=3)
+    return _rotate(q, v)
+
+
+def _rotate(q: FloatArray, v: FloatArray) -> FloatArray:
+    # v' = v + 2w (u × v) + 2 u × (u × v), u the vector part of unit q.
+    w = q[..., :1]
+    u = q[..., 1:]
+    t = 2.0 * np.cross(u, v)
+    return v + w * t + np.cross(u, t)
+
+
+def quat_to_dcm(q: npt.ArrayLike) -> FloatArray:
+    """Direction cosine matrix ``C`` with ``C @ v == quat_rotate(q, v)``; shape ``(..., 3, 3)``."""
+    q = quat_normalize(q)
+    return _dcm(q)
+
+
+def _dcm(q: FloatArray) -> FloatArray:
+    w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    return np.stack(
+        [
+            np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
+            np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
+            np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1),
+        ],
+        axis=-2,
+    )
+
+
+def quat_from_dcm(c: npt.ArrayLike, *, atol: float = 1e-6) -> FloatArray:
+    """Unit quaternion (``w ≥ 0``) of a rotation matrix, by Shepperd's method.
+
+    Raises if ``c`` is not a proper rotation (``cᵀc = I`` and ``det c = +1`` within ``atol``).
+    """
+    c = as_float_array(c, "c", min_ndim=2)
+    if c.shape[-2:] != (3, 3):
+        raise ImunavError(f"c must have shape (..., 3, 3), got {c.shape}")
+    err = np.abs(np.swapaxes(c, -1, -2) @ c - np.eye(3)).max(axis=(-1, -2))
+    if np.any(err > atol) or np.any(np.linalg.det(c) <= 0):
+        raise ImunavError(
+            f"c must be a proper rotation matrix (orthonormal, det +1); worst |cᵀc − I| = "
+            f"{float(np.max(err)):.3g}"
+        )
+    tr = np.trace(c, axis1=-2, axis2=-1)
+    d = np.stack([tr, c[..., 0, 0], c[..., 1, 1], c[..., 2, 2]], axis=-1)
+    k = np.argmax(d, axis=-1)
+    out = np.empty(c.shape[:-2] + (4,))
+    # Each branch divides by the largest of the four candidates, so never by ~0.
+    s0 = np.sqrt(np.maximum(1 + tr, 0)) * 2
+    s1 = np.sqrt(np.maximum(1 + 2 * c[..., 0, 0] - tr, 0)) * 2
+    s2 = np.sqrt(np.maximum(1 + 2 * c[..., 1, 1] - tr, 0)) * 2
+    s3 = np.sqrt(np.maximum(1 + 2 * c[..., 2, 2] - tr, 0)) * 2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cand = [
+            np.stack([s0 / 4, (c[..., 2, 1] - c[..., 1, 2]) / s0,
+                      (c[..., 0, 2] - c[..., 2, 0]) / s0, (c[..., 1, 0] - c[..., 0, 1]) / s0], -1),
+            np.stack([(c[..., 2, 1] - c[..., 1, 2]) / s1, s1 / 4,
+                      (c[..., 0, 1] + c[..., 1, 0]) / s1, (c[..., 0, 2] + c[..., 2, 0]) / s1], -1),
+            np.stack([(c[..., 0, 2] - c[..., 2, 0]) / s2, (c[..., 0, 1] + c[..., 1, 0]) / s2,
+                      s2 / 4, (c[..., 1, 2] + c[..., 2, 1]) / s2], -1),
+            np.stack([(c[..., 1, 0] - c[..., 0, 1]) / s3, (c[..., 0, 2] + c[..., 2, 0]) / s3,
+                      (c[..., 1, 2] + c[..., 2, 1]) / s3, s3 / 4], -1),
+        ]
+    for i in range(4):
+        m = k == i
+        out[m] = cand[i][m]
+    out = out / np.linalg.norm(out, axis=-1, keepdims=True)
+    return np.where(out[..., :1] < 0, -out, out)
+
+
+def _axis_quat(angle: FloatArray, axis: int) -> FloatArray:
+    q = np.zeros(np.shape(angle) + (4,))
+    q[..., 0] = np.cos(angle / 2)
+    q[..., axis] = np.sin(angle / 2)
+    return q
+
+
+def euler_to_quat(ypr: npt.ArrayLike) -> FloatArray:
+    """Quaternion ``q_nb = q_z(ψ) ⊗ q_y(θ) ⊗ q_x(φ)`` from ``ypr = [yaw ψ, pitch θ, roll φ]`` (rad).
+
+    Intrinsic Z-Y-X: the same rotation as ``Rotation.from_euler("ZYX", [ψ, θ, φ])``.
+    """
+    ypr = as_float_array(ypr, "ypr", last=3)
+    return _mul(_mul(_axis_quat(ypr[..., 0], 3), _axis_quat(ypr[..., 1], 2)),
+                _axis_quat(ypr[..., 2], 1))
+
+
+def quat_to_euler(q: npt.ArrayLike) -> FloatArray:
+    """``[yaw ψ, pitch θ, roll φ]`` (rad, intrinsic Z-Y-X) of ``q_nb``; shape ``(..., 3)``.
+
+    ψ, φ ∈ (−π, π], θ ∈ [−π/2, π/2]. At gimbal lock (``|cos θ| < GIMBAL_LOCK_TOL``) only
+    ψ ∓ φ is defined: φ is set to 0 and a :class:`GimbalLockWarning` is issued.
+    """
+    q = quat_normalize(q)
+    w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    s = np.clip(2 * (w * y - x * z), -1.0, 1.0)
+    pitch = np.arcsin(s)
+    yaw = np.arctan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
+    roll = np.arctan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))
+    # cos θ from the other two entries of the DCM's first column/last row is more exact
+    # than sqrt(1 − s²) near the lock.
+    cos_pitch = np.hypot(1 - 2 * (y * y + z * z), 2 * (x * y + w * z))
+    locked = cos_pitch < GIMBAL_LOCK_TOL
+    if np.any(locked):
+        warnings.warn(
+            "gimbal lock: pitch is ±90°, yaw and roll are not separable; roll set to 0",
+            GimbalLockWarning,
+            stacklevel=2,
+        )
+        # At θ = ±90° the DCM reduces to C01 = −sin(ψ ∓ φ), C11 = cos(ψ ∓ φ).
+        yaw_l = np.arctan2(-2 * (x * y - w * z), 1 - 2 * (x * x + z * z))
+        yaw = np.where(locked, yaw_l, yaw)
+        roll = np.where(locked, 0.0, roll)
+        pitch = np.where(locked, np.sign(s) * np.pi / 2, pitch)
+    return np.stack([yaw, pitch, roll], axis=-1)
+
+
+def quat_exp(rotvec: npt.ArrayLike) -> FloatArray:
+    """Unit quaternion of a rotation vector ``φ`` (rad): ``[cos(|φ|/2), sin(|φ|/2) φ/|φ|]``.
+
+    Exact at ``φ = 0`` (uses ``sin(a/2)/a = sinc(a/2π)/2``, no division by zero).
+    """
+    v = as_float_array(rotvec, "rotvec", last=3)
+    return _exp(v)
+
+
+def _exp(v: FloatArray) -> FloatArray:
+    a = np.linalg.norm(v, axis=-1, keepdims=True)
+    return np.concatenate([np.cos(a / 2), 0.5 * np.sinc(a / (2 * np.pi)) * v], axis=-1)
+
+
+def quat_log(q: npt.ArrayLike) -> FloatArray:
+    """Rotation vector (rad) of ``q``, the short way round (angle in [0, π]).
+
+    Uses ``angle = 2 atan2(|v|, |w|)``, accurate to full precision for small angles and
+    for ``|w|`` slightly above 1; the zero rotation gives exactly 0.
+    """
+    q = quat_normalize(q)
+    return _log(q)
+
+
+def _log(q: FloatArray) -> FloatArray:
+    q = np.where(q[..., :1] < 0, -q, q)  # short way round: q and −q are the same rotation
+    w = q[..., :1]
+    v = q[..., 1:]
+    n = np.linalg.norm(v, axis=-1, keepdims=True)
+    safe = np.where(n > 0, n, 1.0)
+    # atan2(n, w)/n → 1/w as n → 0 (w ≥ 1/√2 there, so no division by zero).
+    f = np.where(n > 0, 2 * np.arctan2(n, w) / safe, 2.0 / np.where(w > 0, w, 1.0))
+    return f * v
+
+
+def quat_angle(p: npt.ArrayLike, q: npt.ArrayLike) -> FloatArray:
+    """Angle (rad, in [0, π]) of the rotation between ``p`` and ``q``: ``|log(p* ⊗ q)|``.
+
+    Sign-insensitive (``quat_angle(q, −q) == 0``), symmetric, and computed as
+    ``2 atan2(|vec|, |w|)`` so that angles far below 1e-8 rad are resolved (an
+    ``arccos``-based angle floors near 1e-8 rad).
+    """
+    p = quat_normalize(p)
+    q = quat_normalize(q)
+    return _angle(p, q)
+
+
+def _angle(p: FloatArray, q: FloatArray) -> FloatArray:
+    d = _mul(p * np.array([1.0, -1.0, -1.0, -1.0]), q)
+    return 2 * np.arctan2(np.linalg.norm(d[..., 1:], axis=-1), np.abs(d[..., 0]))
+
+
+def skew(v: npt.ArrayLike) -> FloatArray:
+    """Cross-product matrix ``[v×]`` with ``skew(a) @ b == cross(a, b)``; shape ``(..., 3, 3)``."""
+    v = as_float_array(v, "v", last=3)
+    z = np.zeros(v.shape[:-1])
+    x, y, w = v[..., 0], v[..., 1], v[..., 2]
+    return np.stack(
+        [np.stack([z, -w, y], -1), np.stack([w, z, -x], -1), np.stack([-y, x, z], -1)], axis=-2
+    )
+
+
+def to_scipy(q: npt.ArrayLike):
+    """``scipy.spatial.transform.Rotation`` of scalar-first ``q`` (flag passed explicitly)."""
+    from scipy.spatial.transform import Rotation
+
+    return Rotation.from_quat(quat_normalize(q), scalar_first=True)
+
+
+def from_scipy(rotation) -> FloatArray:
+    """Scalar-first quaternion(s) ``[w, x, y, z]`` of a scipy ``Rotation``."""
+    return np.asarray(rotation.as_quat(scalar_first=True), dtype=np.float64)
