@@ -39,7 +39,7 @@ def as_float_array(x: npt.ArrayLike, name: str, *, last: int | None = None,
     if a.ndim < min_ndim:
         raise ImunavError(f"{name} must have at least {min_ndim} dimension(s), got shape {a.shape}")
     if last is not None and (a.ndim == 0 or a.shape[-1] != last):
-        want = "(..., %d)" % last if ndim is None else "(" + "N, " * (ndim - 1) + f"{last})"
+        want = f"(..., {last})" if ndim is None else "(" + "N, " * (ndim - 1) + f"{last})"
         raise ImunavError(f"{name} must have shape {want}, got {a.shape}")
     if not np.all(np.isfinite(a)):
         bad = np.argwhere(~np.isfinite(a))[0]

@@ -18,7 +18,7 @@ from imunav.errors import ImunavError, as_float_array
 FloatArray = NDArray[np.float64]
 
 #: ``|cos θ|`` below which Z-Y-X Euler angles are treated as gimbal-locked.
-GIMBAL_LOCK_TOL = 1e-7
+GIMBAL_LOCK_TOL = 1e-9
 
 
 class GimbalLockWarning(UserWarning):
@@ -168,13 +168,13 @@ def quat_to_euler(q: npt.ArrayLike) -> FloatArray:
     """
     q = quat_normalize(q)
     w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    s = np.clip(2 * (w * y - x * z), -1.0, 1.0)
-    pitch = np.arcsin(s)
+    s = 2 * (w * y - x * z)  # sin θ = −C20
+    # cos θ from the first column's other two entries; atan2 keeps θ exact near ±90°
+    # (arcsin(s) loses half the digits there).
+    cos_pitch = np.hypot(1 - 2 * (y * y + z * z), 2 * (x * y + w * z))
+    pitch = np.arctan2(s, cos_pitch)
     yaw = np.arctan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
     roll = np.arctan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))
-    # cos θ from the other two entries of the DCM's first column/last row is more exact
-    # than sqrt(1 − s²) near the lock.
-    cos_pitch = np.hypot(1 - 2 * (y * y + z * z), 2 * (x * y + w * z))
     locked = cos_pitch < GIMBAL_LOCK_TOL
     if np.any(locked):
         warnings.warn(
@@ -186,7 +186,6 @@ def quat_to_euler(q: npt.ArrayLike) -> FloatArray:
         yaw_l = np.arctan2(-2 * (x * y - w * z), 1 - 2 * (x * x + z * z))
         yaw = np.where(locked, yaw_l, yaw)
         roll = np.where(locked, 0.0, roll)
-        pitch = np.where(locked, np.sign(s) * np.pi / 2, pitch)
     return np.stack([yaw, pitch, roll], axis=-1)
 
 
@@ -219,10 +218,8 @@ def _log(q: FloatArray) -> FloatArray:
     w = q[..., :1]
     v = q[..., 1:]
     n = np.linalg.norm(v, axis=-1, keepdims=True)
-    safe = np.where(n > 0, n, 1.0)
-    # atan2(n, w)/n → 1/w as n → 0 (w ≥ 1/√2 there, so no division by zero).
-    f = np.where(n > 0, 2 * np.arctan2(n, w) / safe, 2.0 / np.where(w > 0, w, 1.0))
-    return f * v
+    # Where |v| = 0 the result is 0 whatever the factor, so divide by 1 there.
+    return 2 * np.arctan2(n, w) / np.where(n > 0, n, 1.0) * v
 
 
 def quat_angle(p: npt.ArrayLike, q: npt.ArrayLike) -> FloatArray:
