@@ -53,8 +53,15 @@ def _quickstart(out: Path) -> list[dict]:
 
 
 #: name → reproduction function; paper modules add theirs here.
+def _plaksiy(out: Path) -> list[dict]:
+    from imunav.papers import plaksiy
+
+    return plaksiy.reproduce(out)
+
+
 REPRODUCTIONS: dict[str, Callable[[Path], list[dict]]] = {
     "quickstart": _quickstart,
+    "plaksiy": _plaksiy,
 }
 
 

@@ -1,0 +1,1 @@
+"""One module per source paper; each converts the paper's conventions at its boundary."""

@@ -1,0 +1,1 @@
+"""SymPy derivations behind the paper reproductions (importable, tested, printed by notebooks)."""

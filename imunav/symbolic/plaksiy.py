@@ -1,0 +1,174 @@
+"""Plaksiy & Homozkova: the four-rotation quaternion eq. (3) and its angular velocity eq. (5).
+
+Findings (each computed by a function here and shown in notebook 02):
+
+1. Eq. (3) as printed has a typo in λ₂: the second bracket reads
+   ``cos φ/2 · sin ψ/2 · cos ϑ/2 + sin φ/2 · sin ψ/2 · sin ϑ/2``; it must be
+   ``cos φ/2 · cos ψ/2 · cos ϑ/2 + sin φ/2 · sin ψ/2 · sin ϑ/2`` (the scalar part of the
+   three-rotation quaternion). As printed, ``|Λ| ≠ 1`` (:func:`norm_defect`).
+2. With that correction eq. (3) is the product ``Λ = q₃(φ) ∘ q₂(ψ) ∘ q₁(ϑ) ∘ q₂(χ)``
+   (Hamilton product, body-fixed successive turns: φ about axis 3, ψ about the new axis 2,
+   ϑ about the new axis 1, then χ about the new axis 2) — :func:`identify_sequence`.
+3. ``ω = 2 Λ̃ ∘ Λ̇`` derived from the corrected (3) equals the printed eq. (5) identically
+   (:func:`omega_discrepancy` simplifies the difference to zero); eq. (5) is therefore the
+   body-frame (Hamilton, right-multiplied) angular velocity, the same convention as imunav's
+   gyro.
+"""
+
+from __future__ import annotations
+
+import itertools
+from functools import lru_cache
+
+import sympy as sp
+
+t = sp.Symbol("t", real=True)
+phi, psi, vth, chi = (sp.Function(n, real=True)(t) for n in ("varphi", "psi", "vartheta", "chi"))
+ANGLES = (phi, psi, vth, chi)
+
+Q = sp.algebras.Quaternion
+
+
+def _c(x):
+    return sp.cos(x / 2)
+
+
+def _s(x):
+    return sp.sin(x / 2)
+
+
+def printed_eq3(corrected: bool = False) -> tuple[sp.Expr, ...]:
+    """λ₀…λ₃ of eq. (3) transcribed from the paper (OCR ``ños`` read as ``cos``).
+
+    ``corrected=True`` replaces the one wrong factor in λ₂ (``sin ψ/2`` → ``cos ψ/2`` in the
+    first term of the second bracket).
+    """
+    cf, sf, cp, sp_, cv, sv, cc, sc = (_c(phi), _s(phi), _c(psi), _s(psi), _c(vth), _s(vth),
+                                       _c(chi), _s(chi))
+    l0 = cc * (cf * cp * cv + sf * sp_ * sv) - sc * (cf * sp_ * cv + sf * cp * sv)
+    l1 = cc * (cf * cp * sv - sf * sp_ * cv) - sc * (sf * cp * cv - cf * sp_ * sv)
+    first = cf * (cp if corrected else sp_) * cv  # printed: cos φ/2 · sin ψ/2 · cos ϑ/2
+    l2 = cc * (cf * sp_ * cv + sf * cp * sv) + sc * (first + sf * sp_ * sv)
+    l3 = cc * (sf * cp * cv - cf * sp_ * sv) + sc * (cf * cp * sv - sf * sp_ * cv)
+    return (l0, l1, l2, l3)
+
+
+def printed_eq5() -> tuple[sp.Expr, ...]:
+    """ω₁, ω₂, ω₃ of eq. (5) as printed."""
+    d = {a: sp.diff(a, t) for a in ANGLES}
+    w1 = (-sp.sin(chi) * (d[phi] * sp.cos(psi) * sp.cos(vth) - d[psi] * sp.sin(vth))
+          + sp.cos(chi) * (d[vth] - d[phi] * sp.sin(psi)))
+    w2 = (d[chi] + sp.Rational(1, 2) * d[phi] * (sp.sin(vth + psi) + sp.sin(vth - psi))
+          + d[psi] * sp.cos(vth))
+    w3 = (sp.sin(chi) * (d[vth] - d[phi] * sp.sin(psi))
+          + sp.cos(chi) * (d[phi] * sp.cos(psi) * sp.cos(vth) - d[psi] * sp.sin(vth)))
+    return (w1, w2, w3)
+
+
+def axis_quaternion(angle, axis: int) -> Q:
+    """Turn by ``angle`` about body axis 1, 2 or 3: ``[cos a/2, sin a/2 · e_axis]``."""
+    comps = [sp.cos(angle / 2), 0, 0, 0]
+    comps[axis] = sp.sin(angle / 2)
+    return Q(*comps)
+
+
+def composed(axes=(3, 2, 1, 2), left_to_right: bool = True) -> tuple[sp.Expr, ...]:
+    """``q_a(φ) ∘ q_b(ψ) ∘ q_c(ϑ) ∘ q_d(χ)`` (or the reverse product order)."""
+    qs = [axis_quaternion(a, ax) for a, ax in zip(ANGLES, axes, strict=True)]
+    if not left_to_right:
+        qs = qs[::-1]
+    q = qs[0] * qs[1] * qs[2] * qs[3]
+    return (q.a, q.b, q.c, q.d)
+
+
+def _numeric_points(n: int = 3, seed: int = 1):
+    import random
+
+    r = random.Random(seed)
+    return [{a: sp.Float(r.uniform(-3, 3), 30) for a in ANGLES} for _ in range(n)]
+
+
+def identify_sequence(corrected: bool = True) -> list[tuple[tuple[int, ...], bool, list[bool]]]:
+    """Search every axis sequence (a, b, c, d) ∈ {1,2,3}⁴ and both product orders for the one
+    that reproduces eq. (3), component by component, at random angles (30-digit arithmetic).
+
+    Returns the candidates that match at least three of the four components:
+    ``(axes, left_to_right, [λ₀ ok, λ₁ ok, λ₂ ok, λ₃ ok])``.
+    """
+    target = printed_eq3(corrected)
+    pts = _numeric_points()
+    tv = [[sp.N(c.subs(p), 25) for c in target] for p in pts]
+    hits = []
+    for axes in itertools.product((1, 2, 3), repeat=4):
+        for order in (True, False):
+            cand = composed(axes, order)
+            ok = [all(abs(sp.N(cand[i].subs(p), 25) - tv[j][i]) < 1e-20
+                      for j, p in enumerate(pts)) for i in range(4)]
+            if sum(ok) >= 3:
+                hits.append((axes, order, ok))
+    return hits
+
+
+_H = sp.symbols("h0:4", real=True)        # half angles
+_S = sp.symbols("s0:4", real=True)        # sin of half angles
+_C = sp.symbols("c0:4", real=True)        # cos of half angles
+_R = sp.symbols("r0:4", real=True)        # angle rates
+
+
+def trig_normal_form(expr: sp.Expr) -> sp.Expr:
+    """Canonical polynomial of a trigonometric expression in the four angles and their rates.
+
+    Angles are written as twice a half angle, every sine/cosine is expanded into
+    ``sᵢ = sin(hᵢ)``, ``cᵢ = cos(hᵢ)``, and the polynomial is reduced modulo
+    ``sᵢ² + cᵢ² − 1`` (a Gröbner basis). Two expressions are identical iff their normal forms
+    are; an identity is proved when the normal form of the difference is 0.
+    """
+    e = expr.subs({sp.diff(a, t): r for a, r in zip(ANGLES, _R, strict=True)})
+    e = e.subs({a: 2 * h for a, h in zip(ANGLES, _H, strict=True)})
+    e = sp.expand_trig(sp.expand(e))
+    e = e.subs({sp.sin(h): s for h, s in zip(_H, _S, strict=True)})
+    e = e.subs({sp.cos(h): c for h, c in zip(_H, _C, strict=True)})
+    e = sp.expand(e)
+    if e == 0:
+        return sp.Integer(0)
+    ideal = [s**2 + c**2 - 1 for s, c in zip(_S, _C, strict=True)]
+    _, rem = sp.reduced(e, ideal, *(_S + _C + _R))
+    return sp.expand(rem)
+
+
+def norm_defect(corrected: bool) -> sp.Expr:
+    """Normal form of ``λ₀² + λ₁² + λ₂² + λ₃² − 1`` for eq. (3): 0 iff |Λ| ≡ 1."""
+    lam = printed_eq3(corrected)
+    return trig_normal_form(sum(c**2 for c in lam) - 1)
+
+
+def derive_omega(lam: tuple[sp.Expr, ...]) -> tuple[sp.Expr, ...]:
+    """Vector part of ``ω = 2 Λ̃ ∘ Λ̇`` (eq. (4)) for a symbolic quaternion."""
+    L = Q(*lam)
+    Ld = Q(*(sp.diff(c, t) for c in lam))
+    w = 2 * Q(L.a, -L.b, -L.c, -L.d) * Ld
+    return (w.b, w.c, w.d)
+
+
+@lru_cache(maxsize=2)
+def omega_discrepancy(corrected: bool = True) -> tuple[sp.Expr, ...]:
+    """Normal form of ``derive_omega(eq. 3) − eq. (5)``, component by component (0 = identical)."""
+    derived = derive_omega(printed_eq3(corrected))
+    return tuple(trig_normal_form(d - p) for d, p in zip(derived, printed_eq5(), strict=True))
+
+
+def omega_lambdified():
+    """Eq. (5) as a numpy function ``f(φ, ψ, ϑ, χ, φ̇, ψ̇, ϑ̇, χ̇) → (ω₁, ω₂, ω₃)``."""
+    a = sp.symbols("a0:4", real=True)
+    r = sp.symbols("r0:4", real=True)
+    sub = {sp.diff(x, t): ri for x, ri in zip(ANGLES, r, strict=True)}
+    sub2 = dict(zip(ANGLES, a, strict=True))
+    exprs = [e.subs(sub).subs(sub2) for e in printed_eq5()]
+    return sp.lambdify(a + r, exprs, "numpy")
+
+
+def quaternion_lambdified(corrected: bool = True):
+    """Eq. (3) as a numpy function ``f(φ, ψ, ϑ, χ) → (λ₀, λ₁, λ₂, λ₃)``."""
+    a = sp.symbols("a0:4", real=True)
+    exprs = [e.subs(dict(zip(ANGLES, a, strict=True))) for e in printed_eq3(corrected)]
+    return sp.lambdify(a, exprs, "numpy")

@@ -1,0 +1,114 @@
+"""Plaksiy & Homozkova: symbolic findings, numeric model vs SymPy, Table 1 within tolerance."""
+
+import mpmath
+import numpy as np
+import pytest
+
+from imunav import ImunavError, navigate, simulate_imu
+from imunav.papers import plaksiy as P
+from imunav.symbolic import plaksiy as S
+
+
+def test_printed_eq3_is_not_unit_and_corrected_is():
+    assert S.norm_defect(True) == 0
+    assert S.norm_defect(False) != 0
+
+
+def test_sequence_identified():
+    # corrected (3): all four components match q3(φ)∘q2(ψ)∘q1(ϑ)∘q2(χ), and nothing else does
+    assert S.identify_sequence(True) == [((3, 2, 1, 2), True, [True, True, True, True])]
+    # printed (3): the same product matches every component but λ2
+    assert S.identify_sequence(False) == [((3, 2, 1, 2), True, [True, True, False, True])]
+
+
+def test_eq5_follows_from_corrected_eq3():
+    assert S.omega_discrepancy(True) == (0, 0, 0)
+    assert all(d != 0 for d in (S.omega_discrepancy(False)[0], S.omega_discrepancy(False)[2]))
+
+
+def test_numeric_model_matches_lambdified_sympy(rng):
+    m = P.FourRotationMotion(phi="0.2*t + 0.1*sin(t)", psi="1.3*t", vartheta="0.4*cos(0.5*t)",
+                             chi="-1.3*t")
+    t = rng.uniform(0, 50, 100)
+    a, r = m.angles(t)
+    lam = np.array(S.quaternion_lambdified(True)(*a.T)).T
+    np.testing.assert_allclose(m.attitude(t), lam, atol=1e-14)
+    w = np.array(S.omega_lambdified()(*a.T, *r.T)).T
+    np.testing.assert_allclose(m.angular_rate(t), w, atol=1e-13)
+    # and ω = 2Λ̃∘Λ̇ by the derivative of the numeric attitude (complex-free central difference)
+    h = 1e-5
+    qd = (m.attitude(t + h) - m.attitude(t - h)) / (2 * h)
+    from imunav.rotations import quat_conj, quat_mul
+
+    np.testing.assert_allclose(2 * quat_mul(quat_conj(m.attitude(t)), qd)[:, 1:],
+                               m.angular_rate(t), atol=1e-8)
+
+
+def test_quasi_coordinates_match_mpmath():
+    m = P.FourRotationMotion()
+    edges = np.array([0.0, 0.1, 37.3, 37.4, 999.9, 1000.0])
+    q = np.full((5, 3), np.nan)
+    for n in (0, 2, 4):
+        q[n] = m.quasi_coordinates(edges[n:n + 2])[0]
+    mpmath.mp.dps = 30
+    k1, k2, k3, k4 = P.PAPER_K
+
+    def w(i):
+        def f(t):
+            ps, th, ch = k2 * t, k3 * t, k4 * t
+            u = k3 - k1 * mpmath.sin(ps)
+            v = k1 * mpmath.cos(ps) * mpmath.cos(th) - k2 * mpmath.sin(th)
+            return [-mpmath.sin(ch) * v + mpmath.cos(ch) * u,
+                    k4 + k1 * mpmath.sin(th) * mpmath.cos(ps) + k2 * mpmath.cos(th),
+                    mpmath.sin(ch) * u + mpmath.cos(ch) * v][i]
+        return f
+
+    for n in (0, 2, 4):
+        for i in range(3):
+            ref = float(mpmath.quad(w(i), [edges[n], edges[n + 1]]))
+            assert abs(q[n, i] - ref) <= 1e-16 + 1e-13 * abs(ref)
+
+
+def test_series4_truncation_and_exact():
+    phi = np.array([[0.1, -0.2, 0.05]])
+    a = np.linalg.norm(phi)
+    ex = P.rotation_quaternion(phi, "exact")
+    s4 = P.rotation_quaternion(phi, "series4")
+    # truncation error of the fourth-order series is O(a^5)
+    assert np.abs(s4 - ex).max() < a**5 / 3840 * 1.01
+    with pytest.raises(ImunavError, match="form must be"):
+        P.rotation_quaternion(phi, "series9")
+
+
+def test_miller_exact_for_linear_rate_coning_term():
+    # for ω = a + b t the exact coning term over one step is h³/12 (a×b); Miller's (2) with
+    # his coefficients reproduces it (Miller 1983's design condition)
+    a, b, h = np.array([0.3, -0.1, 0.2]), np.array([0.05, 0.4, -0.2]), 0.1
+    th = [a * h / 3 + b * ((k + 1) ** 2 - k**2) * (h / 3) ** 2 / 2 for k in range(3)]
+    phi = P.miller_rotation_vector(*th, 33 / 80, 57 / 80)
+    exact_coning = h**3 / 12 * np.cross(a, b)
+    np.testing.assert_allclose(phi - (th[0] + th[1] + th[2]), exact_coning, rtol=1e-12)
+
+
+def test_table1_reproduced_by_series4():
+    m = P.FourRotationMotion()
+    inc = P.sub_increments(m, 1000.0, 0.1)
+    for (a, b), paper in P.TABLE1.values():
+        # Paper Table 1 values; the fourth-order truncated update reproduces them within 3 %.
+        d = P.drift(m, alpha=a, beta=b, form="series4", increments=inc).final
+        assert d == pytest.approx(paper, rel=0.03)
+        # the exact exponential does not (it removes the truncation part of the drift)
+        e = P.drift(m, alpha=a, beta=b, form="exact", increments=inc).final
+        assert e < 0.8 * paper
+
+
+def test_usable_as_motion_everywhere():
+    from imunav.assess import nav_errors
+
+    m = P.FourRotationMotion(duration=20.0)
+    # measured at 100 Hz: rates/magnus4 2.0e-8 rad, 9.3e-6 m; increments/coning2 9.3e-7 rad
+    err = nav_errors(navigate(simulate_imu(m, 100.0), m.attitude([0.0])[0]), m)
+    assert err.attitude.max() < 6e-8 and err.position.max() < 3e-5
+    sig = simulate_imu(m, 100.0, output="increments")
+    err = nav_errors(navigate(sig, m.attitude([0.0])[0]), m)
+    assert err.attitude.max() < 3e-6
