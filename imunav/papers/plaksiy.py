@@ -320,3 +320,36 @@ def reproduce(out) -> list[dict]:
                        f"drift {d_opt:.3e} rad there; with the exact update α = {a_ex:.3f}, "
                        f"drift {d_ex:.3e} rad"))
     return recs
+
+
+def drift_grid(motion: FourRotationMotion, alphas: npt.ArrayLike, betas: npt.ArrayLike,
+               duration: float = 1000.0, dt: float = 0.1, form: str = "series4") -> FloatArray:
+    """Final drift on an (α, β) grid, shape (len(betas), len(alphas))."""
+    inc = sub_increments(motion, duration, dt)
+    return np.array([[drift(motion, alpha=a, beta=b, form=form, increments=inc).final
+                      for a in np.asarray(alphas, float)] for b in np.asarray(betas, float)])
+
+
+def plot_coefficient_lab(alphas, on_line: dict[str, FloatArray], grid_alphas, grid_betas,
+                         grid: FloatArray, fig=None):
+    """Drift vs α on α + β = 90/80 (each update form) and a map of drift over (α, β)."""
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import LogNorm
+
+    fig = fig or plt.figure(figsize=(12, 4.5))
+    ax = fig.add_subplot(1, 2, 1)
+    for form, d in on_line.items():
+        ax.semilogy(alphas, d, label=form)
+    for key, ((a, _), paper) in TABLE1.items():
+        ax.plot(a, paper, "k*", ms=8)
+        ax.annotate(key, (a, paper), fontsize=7, xytext=(3, 3), textcoords="offset points")
+    ax.set(xlabel="α (β = 90/80 − α)", ylabel="final drift at 1000 s (rad)",
+           title="on the line α + β = 90/80 (★ paper)")
+    ax.legend()
+    ax2 = fig.add_subplot(1, 2, 2)
+    im = ax2.pcolormesh(grid_alphas, grid_betas, grid, norm=LogNorm(), shading="auto")
+    ax2.plot(grid_alphas, 90 / 80 - np.asarray(grid_alphas), "w--", lw=1)
+    fig.colorbar(im, ax=ax2, label="final drift (rad)")
+    ax2.set(xlabel="α", ylabel="β", title="off the line (series4 update)")
+    fig.tight_layout()
+    return fig
