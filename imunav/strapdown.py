@@ -47,7 +47,9 @@ class Algorithm:
     """One strapdown algorithm.
 
     ``order`` is the global convergence order ``(attitude, velocity, position)`` on smooth
-    motion; ``func(signals, q0, v0, p0, g) → (q, v, p)`` each with N+1 rows.
+    motion; ``func(signals, q0, v0, p0, g) → (q, v, p)`` each with N+1 rows. ``causal``: the
+    state at ``t_k`` uses no sample after ``t_k`` (real-time capable; multi-sample
+    algorithms update once per major interval).
     """
 
     name: str
@@ -56,6 +58,7 @@ class Algorithm:
     summary: str
     source: str
     func: Callable
+    causal: bool = True
 
 
 def cumulative_product(q0: npt.ArrayLike, dq: npt.ArrayLike, block: int | None = None
@@ -106,53 +109,7 @@ def _pairs(x: FloatArray) -> tuple[FloatArray, FloatArray]:
     return prev, cur
 
 
-def _stencil(n: int, m: int) -> tuple[np.ndarray, np.ndarray]:
-    """For each of the n−1 intervals of an n-sample grid, the first sample of a centred
-    m-sample stencil (shifted inward at the ends) and the interval's offset in it."""
-    m = min(m, n)
-    k = np.arange(n - 1)
-    start = np.clip(k - (m // 2 - 1), 0, n - m)
-    return start, k - start
-
-
-def _lagrange_weights(nodes: FloatArray, x: FloatArray) -> FloatArray:
-    """Weights ``w[i, j]`` with ``p(x_i) = Σ_j w[i, j] y_j`` for the interpolant through nodes."""
-    m = nodes.size
-    w = np.ones((x.size, m))
-    for j in range(m):
-        for i in range(m):
-            if i != j:
-                w[:, j] *= (x - nodes[i]) / (nodes[j] - nodes[i])
-    return w
-
-
-def _moment_weights(nodes: FloatArray, a: float, b: float, p: int) -> FloatArray:
-    """Weights ``w_j`` with ``∫_a^b (b − s)^p L(s) ds = Σ_j w_j y_j`` (exact for the interpolant)."""
-    x, wq = np.polynomial.legendre.leggauss(max(4, nodes.size + p))
-    s = a + (b - a) * (x + 1) / 2
-    L = _lagrange_weights(nodes, s)
-    return (b - a) / 2 * ((wq * (b - s) ** p) @ L)
-
-
-def _local_poly(samples: FloatArray, m: int, fn) -> FloatArray:
-    """Apply per-interval linear functionals of a local degree-(m−1) interpolant.
-
-    ``fn(nodes, offset) → (r, m)`` weights; returns shape ``(n−1, r, 3)``.
-    """
-    n = samples.shape[0]
-    start, off = _stencil(n, m)
-    m = min(m, n)
-    nodes = np.arange(m, dtype=float)
-    table = {o: fn(nodes, o) for o in np.unique(off)}
-    W = np.stack([table[o] for o in off])  # (n−1, r, m)
-    idx = start[:, None] + np.arange(m)
-    return np.einsum("krm,kmc->krc", W, samples[idx])
-
-
 # --------------------------------------------------------------------------- rate algorithms
-
-_GAUSS2 = np.array([0.5 - np.sqrt(3) / 6, 0.5 + np.sqrt(3) / 6])
-
 
 def _rates_trapezoid_nav(sig, q, v0, p0, g):
     # v_k = v_{k−1} + h/2 (a_{k−1} + a_k); p exact for a linear in time.
@@ -195,19 +152,20 @@ def _rates_exponential(sig, q0, v0, p0, g):
     return q, v, p
 
 
-def _rates_magnus4(sig, q0, v0, p0, g):
-    _check_rates(sig, "magnus4")
-    h = sig.dt
-    # ω at the two Gauss points of each interval from a local cubic through 4 samples.
-    w = _local_poly(sig.gyro, 4, lambda nodes, o: _lagrange_weights(nodes, o + _GAUSS2))
-    w1, w2 = w[:, 0], w[:, 1]
-    phi = h / 2 * (w1 + w2) + np.sqrt(3) / 12 * h * h * np.cross(w1, w2)
-    q = cumulative_product(q0, _exp(phi))
-    a = np.einsum("kij,kj->ki", _dcm(q), sig.accel) + np.array([0.0, 0.0, g])
-    dv = h * _local_poly(a, 4, lambda nodes, o: _moment_weights(nodes, o, o + 1, 0)[None])[:, 0]
-    dpx = h * h * _local_poly(a, 4, lambda nodes, o: _moment_weights(nodes, o, o + 1, 1)[None])
-    v, p = _accumulate(v0, p0, dv, dpx[:, 0], h)
-    return q, v, p
+def _poly(kind: str, m: int, order: int, nsub: int):
+    """A high-order offline algorithm: local m-node fit + Magnus-`order` (see imunav.highorder)."""
+    from imunav import highorder
+
+    def run(sig, q0, v0, p0, g):
+        if sig.kind != kind:
+            raise ImunavError(f"this algorithm needs {kind} signals, got {sig.kind}")
+        if len(sig) < 2:
+            raise ImunavError(f"{kind} signals need at least 2 samples for a polynomial fit")
+        return highorder.navigate_poly(kind, sig.gyro, sig.accel, sig.dt, q0, v0, p0, g, m=m,
+                                       order=order, nsub=nsub,
+                                       cumulative_product=cumulative_product)
+
+    return run
 
 
 # ---------------------------------------------------------------------- increment algorithms
@@ -258,6 +216,60 @@ def _inc_coning2(sig, q0, v0, p0, g):
     return q, v, p
 
 
+#: N-sample coning corrections δφ = Σ c_ij θ_i × θ_j over a major interval of N increments.
+#: Ignagni 1990 (J. Guid. Control Dyn. 13(2)); Miller 1983 (6(4)); Savage 1998 table.
+CONING_FAMILIES = {
+    "ignagni2": (2, {(0, 1): 2 / 3}),
+    "miller3": (3, {(0, 2): 33 / 80, (1, 2): 57 / 80, (0, 1): 57 / 80}),
+    "ignagni3": (3, {(0, 2): 9 / 20, (1, 2): 27 / 40, (0, 1): 27 / 40}),
+    "ignagni4": (4, {(0, 1): 736 / 945, (2, 3): 736 / 945, (0, 2): 334 / 945,
+                     (1, 3): 334 / 945, (0, 3): 526 / 945, (1, 2): 654 / 945}),
+}
+
+
+def _multisample(name: str):
+    """N-sample rotation-vector algorithm: the attitude is updated once per N increments with
+    φ = Σθ_i + Σ c_ij θ_i×θ_j (θ₂×(θ₃−θ₁) of eq. (2) written as θ₁×θ₂ + θ₂×θ₃). Between
+    major updates (and for a trailing partial group) q = q_major ⊗ exp(Σθ + ½ Σ_{a<b} θ_a×θ_b),
+    the second-order product of the exponentials."""
+    n, coef = CONING_FAMILIES[name]
+
+    def run(sig, q0, v0, p0, g):
+        _check_inc(sig, name)
+        th = sig.gyro
+        N = th.shape[0]
+        groups = N // n
+        dq_major = np.empty((groups, 4))
+        if groups:
+            t = th[: groups * n].reshape(groups, n, 3)
+            phi = t.sum(axis=1)
+            for (i, j), c in coef.items():
+                phi = phi + c * np.cross(t[:, i], t[:, j])
+            dq_major = _exp(phi)
+        qm = cumulative_product(q0, dq_major)                 # at every n-th sample
+        # intermediate samples from the last major attitude
+        k = np.arange(1, N + 1)
+        base = (k - 1) // n                                   # index of the major attitude
+        first = base * n                                      # first increment of the group
+        cs = np.cumsum(th, axis=0)
+        csum0 = np.concatenate([np.zeros((1, 3)), cs])
+        part = cs - csum0[first]                              # Σθ within the group so far
+        # ½ Σ_{a<b} θ_a × θ_b = ½ Σ_b (Σ_{a<b} θ_a) × θ_b
+        prev_in_group = csum0[:-1] - csum0[first]
+        cr = np.cross(prev_in_group, th) / 2
+        crs = np.cumsum(cr, axis=0)
+        crs0 = np.concatenate([np.zeros((1, 3)), crs])
+        part2 = crs - crs0[first]
+        q = _mul(qm[base], _exp(part + part2))
+        full = (k % n == 0)
+        q[full] = qm[k[full] // n]
+        q = np.concatenate([q0[None], q])
+        v, p = _inc_velocity(sig, q, v0, p0, g, sculling=True)
+        return q, v, p
+
+    return run
+
+
 def _register(*algos: Algorithm) -> dict[str, dict[str, Algorithm]]:
     reg: dict[str, dict[str, Algorithm]] = {"rates": {}, "increments": {}}
     for a in algos:
@@ -276,10 +288,15 @@ ALGORITHMS = _register(
               "Dickson & Rae 2021 (rotation quaternion from rates); Savage 1998",
               _rates_exponential),
     Algorithm("magnus4", "rates", (4, 4, 4),
-              "local cubic through 4 rate samples, 2-point Gauss fourth-order Magnus step; "
-              "velocity/position by local cubic quadrature of a_n",
+              "local cubic through 4 rate samples, one 2-node fourth-order Magnus step; "
+              "velocity/position by 3-point Gauss quadrature of C_nb f_b",
               "Iserles & Nørsett 1999 (Magnus integrators); offline (uses the next sample)",
-              _rates_magnus4),
+              _poly("rates", 4, 4, 1), causal=False),
+    Algorithm("magnus6", "rates", (6, 6, 6),
+              "local quintic through 6 rate samples, one 3-node sixth-order Magnus step; "
+              "velocity/position by 3-point Gauss quadrature of C_nb f_b",
+              "Blanes, Casas & Ros 2000 (sixth-order Magnus); offline (uses 3 later samples)",
+              _poly("rates", 6, 6, 1), causal=False),
     Algorithm("first_order", "increments", (2, 2, 2),
               "q ← normalise(q ⊗ [1, Δθ/2]); Δv with rotation compensation, no sculling",
               "textbook small-angle quaternion, Marusenkova 2020 eq. (25)", _inc_first_order),
@@ -291,10 +308,32 @@ ALGORITHMS = _register(
               "two-sample sculling and rotation compensation; trapezoidal position",
               "Savage 1998 (J. Guid. Control Dyn. 21(1)), Titterton & Weston ch. 11",
               _inc_coning2),
+    Algorithm("ignagni2", "increments", (3, 2, 2),
+              "2-sample rotation vector: θ₁+θ₂ + ⅔ θ₁×θ₂ per major interval of 2 increments",
+              "Ignagni 1990 (J. Guid. Control Dyn. 13(2)); causal", _multisample("ignagni2")),
+    Algorithm("miller3", "increments", (3, 2, 2),
+              "3-sample rotation vector, eq. (2) of Plaksiy & Homozkova with α=33/80, β=57/80",
+              "Miller 1983 (J. Guid. Control Dyn. 6(4)); causal", _multisample("miller3")),
+    Algorithm("ignagni3", "increments", (3, 2, 2),
+              "3-sample rotation vector optimised for coning: α=9/20, β=27/40",
+              "Ignagni 1990; causal", _multisample("ignagni3")),
+    Algorithm("ignagni4", "increments", (3, 2, 2),
+              "4-sample rotation vector optimised for coning (coefficients /945)",
+              "Ignagni 1990; Savage 1998 table 1; causal", _multisample("ignagni4")),
+    Algorithm("poly6_m4", "increments", (4, 4, 4),
+              "6-node fit of cumulative increments, one fourth-order Magnus step per interval; "
+              "Gauss quadrature of C_nb f_b for velocity/position",
+              "this work (local polynomial + Magnus, Iserles & Nørsett 1999); offline",
+              _poly("increments", 6, 4, 1), causal=False),
+    Algorithm("poly8_m6", "increments", (6, 6, 6),
+              "8-node fit of cumulative increments, one sixth-order Magnus step per interval; "
+              "Gauss quadrature of C_nb f_b for velocity/position",
+              "this work (local polynomial + Blanes–Casas–Ros sixth-order Magnus); offline",
+              _poly("increments", 8, 6, 1), causal=False),
 )
 
 #: The most accurate algorithm for each signal kind (used when none is named).
-DEFAULT_ALGORITHM = {"rates": "magnus4", "increments": "coning2"}
+DEFAULT_ALGORITHM = {"rates": "magnus6", "increments": "poly8_m6"}
 
 
 def navigate(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike = (0.0, 0.0, 0.0),
