@@ -67,13 +67,107 @@ def convergence(motion: BaseMotion, rates, kind: str, algorithms=None,
     return rows
 
 
+def fmt_err(x: float, floor: float = 1e-11, width: int = 9) -> str:
+    """``x`` with 2 significant digits, or ``<floor`` where it is rounding noise."""
+    return f"{x:{width}.1e}" if x >= floor else f"{'<' + format(floor, '.0e'):>{width}s}"
+
+
 def format_family(rows: list[dict]) -> str:
-    """Plain-text table of :func:`run_family` rows."""
+    """Plain-text table of :func:`run_family` rows (errors below 1e-11 shown as a floor)."""
     head = (f"{'signals':10s} {'algorithm':18s} {'ord':>3s} {'causal':>6s} {'max att (deg)':>14s} "
             f"{'final att (deg)':>15s} {'max vel (m/s)':>13s} {'max pos (m)':>11s}")
     lines = [head]
     for r in rows:
         lines.append(f"{r['kind']:10s} {r['algorithm']:18s} {r['order']:3d} {str(r['causal']):>6s} "
-                     f"{r['max_att_deg']:14.2e} {r['final_att_deg']:15.2e} {r['max_vel']:13.2e} "
-                     f"{r['max_pos']:11.2e}")
+                     f"{fmt_err(r['max_att_deg'], width=14)} {fmt_err(r['final_att_deg'], width=15)} "
+                     f"{fmt_err(r['max_vel'], width=13)} {fmt_err(r['max_pos'], width=11)}")
     return "\n".join(lines)
+
+
+def poly_sweep(motion: BaseMotion, rate: float, configs, duration: float | None = None
+               ) -> list[dict]:
+    """Accuracy and cost of local-fit + Magnus configurations ``(m, order, nsub)`` on increments.
+
+    Cost is counted as rate evaluations of the fitted polynomial per interval for the
+    attitude (``nsub × order/2``), a machine-independent measure; wall time is also given.
+    """
+    from imunav import highorder
+    from imunav.rotations import _angle
+    from imunav.strapdown import cumulative_product
+
+    sig = simulate_imu(motion, rate, duration, output="increments")
+    q0, v0, p0 = _initial(motion, sig)
+    t = np.concatenate([[sig.t[0] - sig.dt], sig.t])
+    qt = motion.attitude(t)
+    rows = []
+    for m, order, nsub in configs:
+        t0 = time.perf_counter()
+        fit = highorder.LocalFit(sig.gyro, "increments", sig.dt, m)
+        q = cumulative_product(q0, highorder.rotation_vectors(fit, order, nsub))
+        dt = time.perf_counter() - t0
+        rows.append({"nodes": m, "magnus": order, "substeps": nsub,
+                     "evals_per_interval": nsub * order // 2,
+                     "max_att_deg": float(np.degrees(_angle(q, qt).max())), "seconds": dt})
+    return rows
+
+
+def plot_error_vs_time(motion: BaseMotion, rate: float, names, duration: float | None = None,
+                       ax=None):
+    """Attitude error (deg, log scale) vs time for ``names`` = [(kind, algorithm), …]."""
+    import matplotlib.pyplot as plt
+
+    ax = ax or plt.figure(figsize=(8, 4)).add_subplot()
+    for kind, name in names:
+        sig = simulate_imu(motion, rate, duration, output=kind)
+        e = nav_errors(navigate(sig, *_initial(motion, sig), algorithm=name), motion)
+        ax.semilogy(e.t[1:], np.maximum(np.degrees(e.attitude[1:]), 1e-16),
+                    label=f"{kind}/{name}")
+    ax.set(xlabel="t (s)", ylabel="attitude error (deg)",
+           title=f"{getattr(motion, 'name', 'motion')} at {rate:g} Hz")
+    ax.legend(fontsize=7, ncol=2)
+    return ax
+
+
+def plot_convergence(rows: list[dict], ax=None, key: str = "max_att_rad"):
+    """Log–log maximum error vs rate with a dotted reference line of each documented order."""
+    import matplotlib.pyplot as plt
+
+    ax = ax or plt.figure(figsize=(7, 5)).add_subplot()
+    for i, r in enumerate(rows):
+        rates = np.asarray(r["rates"], float)
+        e = np.asarray(r[key])
+        if key == "max_att_rad":
+            e = np.degrees(e)
+        line, = ax.loglog(rates, e, "o-", color=f"C{i % 10}",
+                          label=f"{r['kind']}/{r['algorithm']} ({r['order_att']:.1f})")
+        p = r["documented"][0]
+        ax.loglog(rates, e[0] * (rates / rates[0]) ** (-p), ":", color=line.get_color(), lw=1)
+    ax.set(xlabel="sample rate (Hz)", ylabel="max attitude error (deg)",
+           title="convergence (dotted: documented order)")
+    ax.legend(fontsize=7)
+    return ax
+
+
+def coning_correction_budget(motion: BaseMotion, rate: float, duration: float | None = None
+                             ) -> dict:
+    """Why exact increments need the coning term: the attitude error of ``q ⊗ exp(Δθ)`` vs the
+    accumulated two-sample coning terms Σ Δθ_{k−1}×Δθ_k / 12 (both in rad, body frame)."""
+    from imunav.rotations import _angle
+
+    sig = simulate_imu(motion, rate, duration, output="increments")
+    q0, v0, p0 = _initial(motion, sig)
+    nav = navigate(sig, q0, v0, p0, algorithm="exact_exponential")
+    th = sig.gyro
+    corr = np.cross(th[:-1], th[1:]) / 12
+    rates = simulate_imu(motion, rate, duration, output="rates")
+    nr = navigate(rates, *_initial(motion, rates), algorithm="exact_exponential")
+    return {
+        "exact_exponential_increments_rad": float(_angle(nav.quaternion[-1],
+                                                         motion.attitude(nav.t[-1:])[0])),
+        "sum_coning_terms_rad": float(np.linalg.norm(corr.sum(axis=0))),
+        "exact_exponential_rates_rad": float(_angle(nr.quaternion[-1],
+                                                    motion.attitude(nr.t[-1:])[0])),
+        "coning2_increments_rad": float(_angle(
+            navigate(sig, q0, v0, p0, algorithm="coning2").quaternion[-1],
+            motion.attitude(nav.t[-1:])[0])),
+    }
