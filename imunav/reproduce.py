@@ -59,8 +59,15 @@ def _plaksiy(out: Path) -> list[dict]:
     return plaksiy.reproduce(out)
 
 
+def _marusenkova(out: Path) -> list[dict]:
+    from imunav.papers import marusenkova2020
+
+    return marusenkova2020.reproduce(out)
+
+
 REPRODUCTIONS: dict[str, Callable[[Path], list[dict]]] = {
     "quickstart": _quickstart,
+    "marusenkova2020": _marusenkova,
     "plaksiy": _plaksiy,
 }
 

@@ -61,36 +61,58 @@ class Algorithm:
     causal: bool = True
 
 
-def cumulative_product(q0: npt.ArrayLike, dq: npt.ArrayLike, block: int | None = None
-                       ) -> FloatArray:
-    """``q_k = q_{k−1} ⊗ dq_k`` for k = 1..N, returned with ``q_0`` first (shape (N+1, 4)).
+def prefix_product(x0: np.ndarray, d: np.ndarray, mul, block: int | None = None) -> np.ndarray:
+    """``x_k = mul(x_{k−1}, d_k)`` for k = 1..N with ``x_0`` first, for any associative ``mul``
+    on arrays whose first axis is the sample (quaternions ``(N, 4)``, matrices ``(N, 3, 3)``).
 
     Blocked prefix product: the N factors are split into ~√N blocks; prefix products are
-    formed inside all blocks at once (vectorised across blocks), then the block totals are
-    chained, then applied. Same arithmetic as the sequential loop up to associativity
-    (agrees with it to ~1e-15 per step; tested against the plain loop).
+    formed inside all blocks at once (vectorised across blocks), the block totals are
+    chained, then applied — about 2√N vectorised operations instead of N scalar ones.
+    Same arithmetic as the sequential loop up to associativity (tested to 1e-12).
     """
-    q0 = quat_normalize(q0)
-    dq = as_float_array(dq, "dq", ndim=2, last=4)
-    n = dq.shape[0]
+    n = d.shape[0]
     if n == 0:
-        return q0[None, :].copy()
+        return x0[None].copy()
     L = block or max(1, int(np.ceil(np.sqrt(n))))
     B = -(-n // L)
     pad = B * L - n
-    d = np.concatenate([dq, np.tile([1.0, 0.0, 0.0, 0.0], (pad, 1))]) if pad else dq
-    d = d.reshape(B, L, 4)
+    if pad:
+        ident = np.broadcast_to(_identity_like(x0), (pad,) + x0.shape)
+        d = np.concatenate([d, ident])
+    d = d.reshape((B, L) + x0.shape)
     P = np.empty_like(d)
     P[:, 0] = d[:, 0]
     for j in range(1, L):
-        P[:, j] = _mul(P[:, j - 1], d[:, j])
-    S = np.empty((B, 4))
-    S[0] = q0
+        P[:, j] = mul(P[:, j - 1], d[:, j])
+    S = np.empty((B,) + x0.shape)
+    S[0] = x0
     for b in range(1, B):
-        S[b] = _mul(S[b - 1], P[b - 1, L - 1])
-    q = _mul(S[:, None, :], P).reshape(B * L, 4)[:n]
-    out = np.concatenate([q0[None, :], q])
-    return out / np.linalg.norm(out, axis=-1, keepdims=True)
+        S[b] = mul(S[b - 1], P[b - 1, L - 1])
+    x = mul(S[:, None], P).reshape((B * L,) + x0.shape)[:n]
+    return np.concatenate([x0[None], x])
+
+
+def _identity_like(x0: np.ndarray) -> np.ndarray:
+    if x0.shape == (4,):
+        return np.array([1.0, 0.0, 0.0, 0.0])
+    return np.eye(x0.shape[-1])
+
+
+def cumulative_product(q0: npt.ArrayLike, dq: npt.ArrayLike, block: int | None = None,
+                       normalize: bool = True) -> FloatArray:
+    """``q_k = q_{k−1} ⊗ dq_k`` for k = 1..N, returned with ``q_0`` first (shape (N+1, 4)).
+
+    Vectorised by :func:`prefix_product`. ``normalize`` rescales the results to unit norm
+    (leave it False to keep the norm drift of unnormalised updates, as some papers do).
+    """
+    q0 = as_float_array(q0, "q0", ndim=1, last=4)
+    if normalize:
+        q0 = quat_normalize(q0)
+    dq = as_float_array(dq, "dq", ndim=2, last=4)
+    out = prefix_product(q0, dq, _mul, block)
+    if normalize:
+        out = out / np.linalg.norm(out, axis=-1, keepdims=True)
+    return out
 
 
 # --------------------------------------------------------------------------- helpers

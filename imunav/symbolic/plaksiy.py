@@ -22,6 +22,8 @@ from functools import lru_cache
 
 import sympy as sp
 
+from imunav.symbolic.trig import normal_form
+
 t = sp.Symbol("t", real=True)
 phi, psi, vth, chi = (sp.Function(n, real=True)(t) for n in ("varphi", "psi", "vartheta", "chi"))
 ANGLES = (phi, psi, vth, chi)
@@ -110,30 +112,18 @@ def identify_sequence(corrected: bool = True) -> list[tuple[tuple[int, ...], boo
 
 
 _H = sp.symbols("h0:4", real=True)        # half angles
-_S = sp.symbols("s0:4", real=True)        # sin of half angles
-_C = sp.symbols("c0:4", real=True)        # cos of half angles
 _R = sp.symbols("r0:4", real=True)        # angle rates
 
 
 def trig_normal_form(expr: sp.Expr) -> sp.Expr:
-    """Canonical polynomial of a trigonometric expression in the four angles and their rates.
-
-    Angles are written as twice a half angle, every sine/cosine is expanded into
-    ``sᵢ = sin(hᵢ)``, ``cᵢ = cos(hᵢ)``, and the polynomial is reduced modulo
-    ``sᵢ² + cᵢ² − 1`` (a Gröbner basis). Two expressions are identical iff their normal forms
-    are; an identity is proved when the normal form of the difference is 0.
+    """Canonical polynomial of an expression in the four angles (functions of t) and their
+    rates: angles written as twice a half angle, then :func:`imunav.symbolic.trig.normal_form`.
+    Two expressions are identical iff their normal forms are; an identity is proved when the
+    normal form of the difference is 0.
     """
     e = expr.subs({sp.diff(a, t): r for a, r in zip(ANGLES, _R, strict=True)})
     e = e.subs({a: 2 * h for a, h in zip(ANGLES, _H, strict=True)})
-    e = sp.expand_trig(sp.expand(e))
-    e = e.subs({sp.sin(h): s for h, s in zip(_H, _S, strict=True)})
-    e = e.subs({sp.cos(h): c for h, c in zip(_H, _C, strict=True)})
-    e = sp.expand(e)
-    if e == 0:
-        return sp.Integer(0)
-    ideal = [s**2 + c**2 - 1 for s, c in zip(_S, _C, strict=True)]
-    _, rem = sp.reduced(e, ideal, *(_S + _C + _R))
-    return sp.expand(rem)
+    return normal_form(e, _H, _R)
 
 
 def norm_defect(corrected: bool) -> sp.Expr:

@@ -1,0 +1,97 @@
+"""Marusenkova 2020: symbolic findings, the Part A/B schemes, and their physics."""
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from imunav.papers import marusenkova2020 as M
+from imunav.symbolic import marusenkova as S
+
+
+def test_eq5_is_transpose_of_imunav_dcm(rng):
+    assert S.eq5_is_transpose_of_zyx()
+    from imunav.rotations import euler_to_quat, quat_to_dcm
+
+    ypr = rng.uniform(-1, 1, (20, 3))
+    np.testing.assert_allclose(M.eq5(ypr), np.swapaxes(quat_to_dcm(euler_to_quat(ypr)), 1, 2),
+                               atol=1e-15)
+
+
+def test_eq30_typo_is_element_33_only():
+    mism = S.eq30_mismatches()
+    assert [(i, j) for i, j, *_ in mism] == [(3, 3)]
+    assert sp.simplify(mism[0][3] - sp.cos(S.ph0) * sp.cos(S.th0)) == 0
+
+
+def test_printed_diagonal_terms_are_exact():
+    f = S.diagonal_findings()
+    assert f["omega11"] and f["omega22"] and f["omega33"]
+
+
+def test_diagonal_kernel_matches_sympy_and_matrices(rng):
+    ypr0 = rng.uniform(-1.5, 1.5, (50, 3))
+    ypr1 = ypr0 + rng.uniform(-0.05, 0.05, (50, 3))
+    h = 0.01
+    got = M.omega_orig_diagonal(ypr0, ypr1, h)
+    W = S.omega_orig_exact()
+    f = sp.lambdify((S.psi0, S.th0, S.ph0, S.psi1, S.th1, S.ph1, S.dt),
+                    [W[0, 0], W[1, 1], W[2, 2]], "numpy")
+    ref = np.array(f(*ypr0.T, *ypr1.T, h)).T
+    np.testing.assert_allclose(got, ref, atol=1e-11)
+    # and against plain matrices, an independent numeric path
+    C0, C1 = M.eq5(ypr0), M.eq5(ypr1)
+    mat = (np.swapaxes(C0, 1, 2) @ C1 - np.eye(3)) / h
+    np.testing.assert_allclose(got, np.diagonal(mat, axis1=1, axis2=2), atol=1e-11)
+    f33 = S.omega33_lambdified()
+    np.testing.assert_allclose(got[:, 2], f33(ypr0[:, 1], ypr1[:, 1], ypr1[:, 2] - ypr0[:, 2], h),
+                               atol=1e-12)
+
+
+def test_omega33_example():
+    ex = S.omega33_example()
+    # Paper: Ω_orig(3,3) = −2.63e−4 (printed to 3 digits): reproduced by sin θ ≈ θ (radians)
+    assert ex["sin_as_angle"] == pytest.approx(-2.63e-4, abs=0.006e-4)
+    # exact, independently from eq. (5) matrices in double precision (ψ arbitrary)
+    r = np.radians
+    C0 = M.eq5(np.array([0.7, r(30.0), 0.0]))
+    C1 = M.eq5(np.array([0.9, r(30.1), r(0.1)]))
+    exact = ((C0.T @ C1)[2, 2] - 1) / 0.01
+    assert ex["exact"] == pytest.approx(exact, rel=1e-8)
+    assert not np.isclose(ex["exact"], -2.63e-4, rtol=1e-2)   # 1.3 % away from the printed value
+
+
+def test_amended_round_trip_closes_and_classic_is_first_order():
+    for fig in M.TRAJECTORIES:
+        assert M.round_trip(fig, 100, "quat_amended", "quat_amended")["max"] < 1e-9
+    e1 = M.round_trip("fig1a", 100, "dcm", "dcm")["max"]
+    e2 = M.round_trip("fig1a", 200, "dcm", "dcm")["max"]
+    assert 1.8 < e1 / e2 < 2.2            # first order: no threshold frequency
+    assert e1 > 0.5                        # measured 1.08 m
+
+
+def test_arccos_vs_atan2_in_eq34():
+    a = M.round_trip("fig1a", 1000, "quat_amended", "quat_amended", phi_from="arccos")["max"]
+    b = M.round_trip("fig1a", 1000, "quat_amended", "quat_amended", phi_from="atan2")["max"]
+    assert a < 1e-8 and b < 1e-9
+
+
+def test_paper_gyro_is_minus_nav_rate_and_accel_is_mirrored():
+    d = M.convention_demo()
+    # within O(dt) of −ω_n, far from the body rate
+    assert np.abs(d["paper_gyro"] - d["minus_nav_rate"]).max() < 5e-3
+    assert np.abs(d["paper_gyro"] - d["body_rate"]).max() > 0.3
+    np.testing.assert_allclose(d["paper_accel_rolled_30"] * [1, -1, 1], d["real_accel_rolled_30"],
+                               atol=1e-12)
+    assert d["paper_accel_rolled_30"][1] > 0 > d["real_accel_rolled_30"][1]
+
+
+def test_physical_signals_favour_imunav():
+    m = M.motion_for("fig1a")
+    paper = M.restore_physical(m, 100, 10.0, "increments", "quat_amended")["max"]
+    best = M.restore_physical(m, 100, 10.0, "increments", "imunav:poly8_m6")["max"]
+    assert paper > 0.1 and best < 1e-9      # measured 0.40 m and 6.5e-13 m
+
+
+def test_fig3_ratio():
+    _, omc, ams = M.fig3_data()
+    assert omc[-1] / ams[-1] == pytest.approx(3 / np.radians(5), rel=2e-3)  # ≈ 3/α for small α
