@@ -47,8 +47,22 @@ def build_parser() -> argparse.ArgumentParser:
     names = sorted({n for table in ALGORITHMS.values() for n in table})
     n = sub.add_parser("navigate", help="integrate SIGNALS.csv from the initial state")
     n.add_argument("signals", metavar="SIGNALS.csv")
-    n.add_argument("--initial", required=True, metavar="TRUTH.csv",
-                   help="its first row is the initial state")
+    n.add_argument("--initial", metavar="TRUTH.csv",
+                   help="its first row is the initial state (required for imunav CSV signals; "
+                        "for recordings, default: roll/pitch from the resting accelerometer, "
+                        "yaw 0, at rest at the origin)")
+    n.add_argument("--format", choices=("imunav", "ximu3", "ximu", "generic"), default="imunav",
+                   help="signal file format (ximu3/ximu: the folder or its inertial CSV)")
+    n.add_argument("--gyro-units", default="rad/s", help="generic: rad/s or deg/s")
+    n.add_argument("--accel-units", default="m/s^2", help="generic: m/s^2 or g")
+    n.add_argument("--gyro-columns", default="gx,gy,gz", help="generic: three column names")
+    n.add_argument("--accel-columns", default="ax,ay,az", help="generic: three column names")
+    n.add_argument("--time-column", help="generic: time column name (else --rate)")
+    n.add_argument("--time-units", default="s", help="generic: s, ms or us")
+    n.add_argument("--rate", type=_positive("--rate"), metavar="HZ",
+                   help="generic without a time column: sample rate")
+    n.add_argument("--rest-window", type=_positive("--rest-window"), default=0.5, metavar="S",
+                   help="recordings without --initial: seconds at rest used for the attitude")
     n.add_argument("--out", required=True, metavar="NAV.csv")
     n.add_argument("--algorithm", choices=names, metavar="NAME",
                    help="one of " + ", ".join(names) + "; default the most accurate for the kind")
@@ -90,10 +104,22 @@ def cmd_navigate(args) -> int:
     from imunav.strapdown import ALGORITHMS, navigate
 
     for other in (args.signals, args.initial):
-        if _same_file(args.out, other):
+        if other and _same_file(args.out, other):
             raise ImunavError(f"--out {args.out} would overwrite an input file")
-    sig = read_signals(args.signals, g=args.g)
-    init = read_states(args.initial)
+    if args.format == "imunav":
+        if not args.initial:
+            raise ImunavError("--initial TRUTH.csv is required for imunav signal files")
+        sig = read_signals(args.signals, g=args.g)
+    else:
+        sig = _read_recording(args)
+    if args.initial:
+        init = read_states(args.initial)
+    else:
+        from imunav.papers.dickson_rae2021 import initial_attitude_from_accel
+
+        n = max(1, int(args.rest_window * sig.rate))
+        init = {"quaternion": [initial_attitude_from_accel(sig.accel[:n], sig.g, tol=0.1)],
+                "velocity": [np.zeros(3)], "position": [np.zeros(3)]}
     if args.algorithm and args.algorithm not in ALGORITHMS[sig.kind]:
         raise ImunavError(
             f"algorithm {args.algorithm!r} does not take {sig.kind}; choose one of "
@@ -104,6 +130,29 @@ def cmd_navigate(args) -> int:
     write_states(args.out, res.t, res.position, res.velocity, res.quaternion)
     print(f"wrote {len(res.t)} navigation rows ({res.algorithm}) to {args.out}")
     return 0
+
+
+def _read_recording(args):
+    from pathlib import Path
+
+    from imunav import realdata
+
+    path = Path(args.signals)
+    if args.format in ("ximu3", "ximu"):
+        folder = path if path.is_dir() else path.parent
+        if not folder.exists():
+            raise ImunavError(f"recording not found: {path}")
+        rec = realdata.READERS[args.format](folder)
+    else:
+        cols = [c.strip() for c in args.gyro_columns.split(",")], \
+               [c.strip() for c in args.accel_columns.split(",")]
+        rec = realdata.read_generic(path, gyro_columns=cols[0], accel_columns=cols[1],
+                                    gyro_units=args.gyro_units, accel_units=args.accel_units,
+                                    time_column=args.time_column, time_units=args.time_units,
+                                    rate=args.rate)
+    if args.g is not None:
+        rec.signals.g = args.g
+    return rec.signals
 
 
 def cmd_reproduce(args) -> int:

@@ -1,0 +1,213 @@
+"""Readers for real IMU recordings: x-io x-IMU3, x-io x-IMU, and generic CSV files.
+
+Every reader converts to imunav's SI units at the boundary (rad/s, m/s², s) and returns a
+:class:`Recording` whose ``signals`` are ordinary rate :class:`~imunav.ImuSignals`. The
+device's onboard orientation, where present, is returned raw (``device_t``, ``device_q``):
+its convention is checked against the gyro in ``notebooks/07_real_imu_data.ipynb`` and
+:func:`device_quaternion_convention`.
+"""
+
+from __future__ import annotations
+
+import csv
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+from imunav.errors import ImunavError, check_positive
+from imunav.motion import G0
+from imunav.rotations import FloatArray, _angle, _mul
+from imunav.simulate import ImuSignals
+
+GYRO_UNITS = {"rad/s": 1.0, "deg/s": np.pi / 180, "dps": np.pi / 180}
+ACCEL_UNITS = {"m/s^2": 1.0, "m/s2": 1.0, "m/s²": 1.0, "g": G0}
+TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6}
+
+
+@dataclass
+class Recording:
+    signals: ImuSignals
+    device_t: FloatArray | None = None
+    device_q: FloatArray | None = None   # raw, as stored by the device (see its reader)
+    meta: dict = field(default_factory=dict)
+
+
+def data_path(*parts: str) -> Path:
+    """Path of a file shipped in ``imunav/data`` (e.g. ``data_path("real_imu", "xio_ximu3")``)."""
+    return Path(str(resources.files("imunav") / "data" / Path(*parts)))
+
+
+def _unit(table: dict, value: str, what: str) -> float:
+    if value not in table:
+        raise ImunavError(f"unknown {what} units {value!r}; expected one of {sorted(table)}")
+    return table[value]
+
+
+def _read_table(path: Path) -> tuple[list[str], np.ndarray]:
+    if not path.is_file():
+        raise ImunavError(f"recording file not found: {path}")
+    with path.open(newline="") as fh:
+        rows = list(csv.reader(fh))
+    if len(rows) < 3:
+        raise ImunavError(f"{path}: needs a header and at least 2 data rows")
+    header = [h.strip() for h in rows[0]]
+    try:
+        data = np.array([[float(c) for c in r] for r in rows[1:] if r], dtype=float)
+    except ValueError as exc:
+        raise ImunavError(f"{path}: non-numeric value ({exc})") from None
+    if data.ndim != 2 or data.shape[1] != len(header):
+        raise ImunavError(f"{path}: rows do not all have {len(header)} columns")
+    return header, data
+
+
+def _uniform_rate(t: FloatArray, path, jitter: float = 0.05) -> float:
+    d = np.diff(t)
+    if np.any(d <= 0):
+        i = int(np.argmax(d <= 0))
+        raise ImunavError(f"{path}: time must be strictly increasing (row {i + 3})")
+    med = float(np.median(d))
+    if np.max(np.abs(d - med)) > jitter * med:
+        raise ImunavError(f"{path}: sample times vary by more than {jitter:.0%} "
+                          f"(median {med:.6g} s); resample first")
+    return 1.0 / med
+
+
+def _signals(t, gyro, accel, path) -> ImuSignals:
+    for name, a in (("gyroscope", gyro), ("accelerometer", accel)):
+        if not np.all(np.isfinite(a)):
+            raise ImunavError(f"{path}: {name} columns contain NaN or inf")
+    return ImuSignals(t, gyro, accel, "rates", _uniform_rate(t, path))
+
+
+def read_generic(path: str | Path, *, gyro_columns, accel_columns, gyro_units: str = "rad/s",
+                 accel_units: str = "m/s^2", time_column: str | None = None,
+                 time_units: str = "s", rate: float | None = None) -> Recording:
+    """A CSV with a header: name the gyro and accel columns (x, y, z) and their units, and
+    either a time column (with units) or a sample rate (Hz)."""
+    path = Path(path)
+    gs = _unit(GYRO_UNITS, gyro_units, "gyro")
+    as_ = _unit(ACCEL_UNITS, accel_units, "accel")
+    ts = _unit(TIME_UNITS, time_units, "time")
+    header, data = _read_table(path)
+    cols = {}
+    for name in list(gyro_columns) + list(accel_columns) + ([time_column] if time_column else []):
+        if name not in header:
+            raise ImunavError(f"{path}: no column {name!r}; columns are {header}")
+        cols[name] = header.index(name)
+    if len(gyro_columns) != 3 or len(accel_columns) != 3:
+        raise ImunavError("gyro_columns and accel_columns must each name 3 columns (x, y, z)")
+    if time_column:
+        t = data[:, cols[time_column]] * ts
+    elif rate is not None:
+        t = np.arange(data.shape[0]) / check_positive(rate, "rate")
+    else:
+        raise ImunavError("give either time_column or rate")
+    t = t - t[0]
+    gyro = data[:, [cols[c] for c in gyro_columns]] * gs
+    accel = data[:, [cols[c] for c in accel_columns]] * as_
+    return Recording(_signals(t, gyro, accel, path), meta={"path": str(path)})
+
+
+def read_ximu3(folder: str | Path | None = None) -> Recording:
+    """x-IMU3 ``Inertial.csv`` (+ ``Quaternion.csv`` if present): timestamps in µs, gyro deg/s,
+    accel g. Default: the recording shipped with imunav. ``device_q`` is [W, X, Y, Z] as stored.
+    """
+    folder = Path(folder) if folder else data_path("real_imu", "xio_ximu3")
+    header, d = _read_table(folder / "Inertial.csv")
+    want = ["Timestamp (us)", "Gyroscope X (deg/s)", "Gyroscope Y (deg/s)", "Gyroscope Z (deg/s)",
+            "Accelerometer X (g)", "Accelerometer Y (g)", "Accelerometer Z (g)"]
+    if header[:7] != want:
+        raise ImunavError(f"{folder / 'Inertial.csv'}: not an x-IMU3 inertial file "
+                          f"(header {header[:7]})")
+    t = (d[:, 0] - d[0, 0]) * 1e-6
+    rec = Recording(_signals(t, d[:, 1:4] * GYRO_UNITS["deg/s"], d[:, 4:7] * G0,
+                             folder / "Inertial.csv"), meta={"device": "x-IMU3"})
+    qf = folder / "Quaternion.csv"
+    if qf.is_file():
+        _, q = _read_table(qf)
+        rec.device_t = (q[:, 0] - d[0, 0]) * 1e-6
+        rec.device_q = q[:, 1:5]
+    return rec
+
+
+def read_ximu(folder: str | Path | None = None, rate: float = 256.0) -> Recording:
+    """x-IMU ``*_CalInertialAndMag.csv`` (+ ``*_Quaternion.csv``): packet number, gyro deg/s,
+    accel g (magnetometer ignored). Inertial samples are consecutive at ``rate`` (register
+    code 9 = 256 Hz); the quaternion packets are timed by interpolating packet numbers.
+    ``device_q`` is the four "Element" columns as stored."""
+    folder = Path(folder) if folder else data_path("real_imu", "xio_ximu")
+    files = sorted(folder.glob("*_CalInertialAndMag.csv"))
+    if not files:
+        raise ImunavError(f"no *_CalInertialAndMag.csv in {folder}")
+    header, d = _read_table(files[0])
+    if not header[0].startswith("Packet number") or "Gyroscope X (deg/s)" not in header:
+        raise ImunavError(f"{files[0]}: not an x-IMU calibrated inertial file")
+    t = np.arange(d.shape[0]) / check_positive(rate, "rate")
+    rec = Recording(_signals(t, d[:, 1:4] * GYRO_UNITS["deg/s"], d[:, 4:7] * G0, files[0]),
+                    meta={"device": "x-IMU", "packets": d[:, 0]})
+    qfiles = sorted(folder.glob("*_Quaternion.csv"))
+    if qfiles:
+        _, q = _read_table(qfiles[0])
+        rec.device_t = np.interp(q[:, 0], d[:, 0], t)
+        rec.device_q = q[:, 1:5]
+    return rec
+
+
+READERS = {"ximu3": read_ximu3, "ximu": read_ximu}
+
+
+# ------------------------------------------------------------------------------ analysis
+
+
+def gyro_attitude(sig: ImuSignals, q0: FloatArray, i0: int = 0, i1: int | None = None,
+                  algorithm: str = "magnus6") -> FloatArray:
+    """Gyro-only attitude from sample ``i0`` (attitude ``q0``) to ``i1``: (i1 − i0, 4)."""
+    from imunav.strapdown import navigate
+
+    i1 = len(sig) if i1 is None else i1
+    sub = ImuSignals(sig.t[i0:i1], sig.gyro[i0:i1], sig.accel[i0:i1], "rates", sig.rate, sig.g)
+    return navigate(sub, q0, algorithm=algorithm).quaternion
+
+
+def _device_at(rec: Recording, layout: str) -> FloatArray:
+    q = rec.device_q
+    if layout == "wxyz":
+        out = q
+    elif layout == "xyzw":
+        out = q[:, [3, 0, 1, 2]]
+    else:
+        raise ImunavError(f"layout must be 'wxyz' or 'xyzw', got {layout!r}")
+    return out / np.linalg.norm(out, axis=1, keepdims=True)
+
+
+def device_quaternion_convention(rec: Recording, window: float = 2.0) -> dict:
+    """Which reading of the device quaternion agrees with the gyro?
+
+    For each candidate (element order ``wxyz``/``xyzw``; the quaternion as sensor→earth
+    ``q_nb`` or as earth→sensor ``q_bn = q_nb*``) compare the relative rotation the device
+    reports over consecutive windows with the gyro's (frame-free: body-frame relative
+    rotations do not depend on the earth frame's axes). Returns the median disagreement (deg)
+    per candidate.
+    """
+    sig = rec.signals
+    n = int(window * sig.rate)
+    out = {}
+    idx = np.arange(0, len(sig) - n, n)
+    ti = np.searchsorted(rec.device_t, sig.t[idx])
+    tj = np.searchsorted(rec.device_t, sig.t[idx + n])
+    ok = (ti < len(rec.device_t)) & (tj < len(rec.device_t))
+    for layout in ("wxyz", "xyzw"):
+        qd = _device_at(rec, layout)
+        for meaning in ("q_nb", "q_bn"):
+            errs = []
+            for a, b, i in zip(ti[ok], tj[ok], idx[ok], strict=True):
+                qa, qb = qd[a], qd[b]
+                if meaning == "q_bn":
+                    qa, qb = qa * [1, -1, -1, -1], qb * [1, -1, -1, -1]
+                rel_dev = _mul(qa * [1, -1, -1, -1], qb)
+                g = gyro_attitude(sig, [1.0, 0, 0, 0], i, i + n + 1)[-1]
+                errs.append(np.degrees(_angle(rel_dev, g)))
+            out[f"{layout}/{meaning}"] = float(np.median(errs))
+    return out
