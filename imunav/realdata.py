@@ -211,3 +211,89 @@ def device_quaternion_convention(rec: Recording, window: float = 2.0) -> dict:
                 errs.append(np.degrees(_angle(rel_dev, g)))
             out[f"{layout}/{meaning}"] = float(np.median(errs))
     return out
+
+
+def device_as_q_nb(rec: Recording) -> FloatArray:
+    """The device quaternion as ``q_nb`` (device body axes → device earth frame), using the
+    convention :func:`device_quaternion_convention` establishes for each device:
+    x-IMU3 ``[W, X, Y, Z]`` sensor→earth; x-IMU ``[w, x, y, z]`` earth→sensor (conjugated)."""
+    q = _device_at(rec, "wxyz")
+    if rec.meta.get("device") == "x-IMU":
+        q = q * [1, -1, -1, -1]
+    return q
+
+
+def gyro_vs_device(rec: Recording, windows=(0.25, 0.5, 1.0, 2.0), algorithm: str = "magnus6",
+                   gyro_bias: FloatArray | None = None, start: float = 0.0) -> dict[float, float]:
+    """Median angle (deg) between gyro-only and device attitude at the end of windows of each
+    length, each window started from the device attitude (start times from ``start`` on)."""
+    sig = rec.signals
+    if gyro_bias is not None:
+        sig = ImuSignals(sig.t, sig.gyro - gyro_bias, sig.accel, "rates", sig.rate, sig.g)
+    qd = device_as_q_nb(rec)
+    out = {}
+    for w in windows:
+        n = int(round(w * sig.rate))
+        errs = []
+        for i in range(int(start * sig.rate), len(sig) - n - 1, max(n, 1)):
+            a = int(np.searchsorted(rec.device_t, sig.t[i]))
+            b = int(np.searchsorted(rec.device_t, sig.t[i + n]))
+            if b >= len(rec.device_t):
+                break
+            q = gyro_attitude(ImuSignals(sig.t, sig.gyro, sig.accel, "rates", sig.rate, sig.g),
+                              qd[a], i, i + n + 1, algorithm)[-1]
+            errs.append(np.degrees(_angle(q, qd[b])))
+        out[w] = float(np.median(errs))
+    return out
+
+
+def static_segments(sig: ImuSignals, window: float = 0.5, gyro_tol: float = np.radians(3.0),
+                    accel_tol: float = 0.03) -> list[tuple[int, int]]:
+    """Index ranges where, over sliding ``window`` s, each gyro axis spreads by less than
+    ``gyro_tol`` (max − min: a biased gyro at rest still counts) and |f| stays within
+    ``accel_tol`` (relative) of g: candidate stationary periods for bias estimation."""
+    from numpy.lib.stride_tricks import sliding_window_view
+
+    n = max(2, int(window * sig.rate))
+    gw = sliding_window_view(sig.gyro, n, axis=0)            # (N−n+1, 3, n)
+    spread = (gw.max(axis=-1) - gw.min(axis=-1)).max(axis=-1)
+    a = np.abs(np.linalg.norm(sig.accel, axis=1) / sig.g - 1)
+    aw = sliding_window_view(a, n).max(axis=-1)
+    ok = (spread < gyro_tol) & (aw < accel_tol)
+    segs, i = [], 0
+    while i < len(ok):
+        if ok[i]:
+            j = i
+            while j < len(ok) and ok[j]:
+                j += 1
+            segs.append((i, j + n))
+            i = j
+        else:
+            i += 1
+    return segs
+
+
+def drift_from_rest(sig: ImuSignals, i0: int, i1: int, bias_window: int | None = None,
+                    algorithm: str = "magnus6") -> dict:
+    """Double-integrate the accelerometers over a stationary stretch ``[i0, i1)`` from rest,
+    with the attitude from the resting accelerometer and the gyro. The true position stays 0,
+    so |p(t)| is pure drift; it is fitted as ``c₂t² + c₃t³`` (accelerometer residual bias,
+    and tilt from gyro bias feeding gravity into the horizontal).
+
+    ``bias_window``: if given, gyro bias and accelerometer residual are first estimated over
+    the first ``bias_window`` samples and subtracted (static-segment calibration)."""
+    from imunav.papers.dickson_rae2021 import initial_attitude_from_accel, zero_biases
+    from imunav.strapdown import navigate
+
+    g, a = sig.gyro[i0:i1], sig.accel[i0:i1]
+    nb = bias_window or min(len(g), int(0.5 * sig.rate))
+    q0 = initial_attitude_from_accel(a[:nb], sig.g, tol=0.1)
+    if bias_window:
+        g, a, _, _ = zero_biases(g, a, slice(0, bias_window), q0, sig.g)
+    sub = ImuSignals(sig.t[i0:i1] - sig.t[i0], g, a, "rates", sig.rate, sig.g)
+    nav = navigate(sub, q0, algorithm=algorithm)
+    t = nav.t
+    d = np.linalg.norm(nav.position, axis=1)
+    A = np.stack([t**2, t**3], 1)
+    c, *_ = np.linalg.lstsq(A, d, rcond=None)
+    return {"t": t, "drift": d, "c2": float(c[0]), "c3": float(c[1])}

@@ -65,10 +65,24 @@ def _marusenkova(out: Path) -> list[dict]:
     return marusenkova2020.reproduce(out)
 
 
+def _tutorial(out: Path) -> list[dict]:
+    from imunav.papers import tutorial
+
+    return tutorial.reproduce(out)
+
+
+def _dickson_rae(out: Path) -> list[dict]:
+    from imunav.papers import dickson_rae2021
+
+    return dickson_rae2021.reproduce(out)
+
+
 REPRODUCTIONS: dict[str, Callable[[Path], list[dict]]] = {
     "quickstart": _quickstart,
     "marusenkova2020": _marusenkova,
     "plaksiy": _plaksiy,
+    "tutorial": _tutorial,
+    "dickson_rae2021": _dickson_rae,
 }
 
 
