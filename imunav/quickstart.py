@@ -57,10 +57,23 @@ def error_table(motion: BaseMotion | None = None, rates=(50, 100, 200, 400),
             for r, e in zip(rates, errs, strict=True):
                 row[f"att_{r}"] = e["max_attitude"]
                 row[f"pos_{r}"] = e["max_position"]
-            row["order_att"] = fit_order([1 / r for r in rates], [e["max_attitude"] for e in errs])
-            row["order_pos"] = fit_order([1 / r for r in rates], [e["max_position"] for e in errs])
+            row["order_att"] = _order(rates, [e["max_attitude"] for e in errs], FLOOR_ATT)
+            row["order_pos"] = _order(rates, [e["max_position"] for e in errs], FLOOR_POS)
             rows.append(row)
     return rows
+
+
+#: Errors below these are rounding, not truncation, on the quickstart motion (20 s, |r| ≈ 20 m):
+#: they are not used to fit an order. Attitude in rad, position in m.
+FLOOR_ATT, FLOOR_POS = 1e-13, 1e-10
+
+
+def _order(rates, errs, floor) -> float | None:
+    """Fitted order over the rates whose error is above ``floor`` (None if < 3 remain)."""
+    keep = [(r, e) for r, e in zip(rates, errs, strict=True) if e > floor]
+    if len(keep) < 3:
+        return None
+    return fit_order([1 / r for r, _ in keep], [e for _, e in keep])
 
 
 def plot_run(res: QuickstartRun, fig=None):
@@ -105,10 +118,12 @@ def plot_error_vs_rate(rows: list[dict], rates=(50, 100, 200, 400), fig=None):
     for row in rows:
         lab = f"{row['kind']}/{row['algorithm']}"
         ls = "-" if row["kind"] == "increments" else "--"
+        op = "—" if row["order_pos"] is None else f"{row['order_pos']:.1f}"
+        oa = "—" if row["order_att"] is None else f"{row['order_att']:.1f}"
         axp.loglog(rates, [row[f"pos_{r}"] for r in rates], ls, marker="o",
-                   label=f"{lab} (order {row['order_pos']:.1f})")
+                   label=f"{lab} (order {op})")
         axa.loglog(rates, [np.degrees(row[f"att_{r}"]) for r in rates], ls, marker="o",
-                   label=f"{lab} (order {row['order_att']:.1f})")
+                   label=f"{lab} (order {oa})")
     axp.set(xlabel="sample rate (Hz)", ylabel="max position error (m)")
     axa.set(xlabel="sample rate (Hz)", ylabel="max attitude error (deg)")
     axp.legend(fontsize=7)
