@@ -43,6 +43,10 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--truth", metavar="TRUTH.csv", help="also write the true states at t_k")
     s.add_argument("--g", type=_positive("--g"), metavar="G",
                    help="gravity (m/s²); default the motion file's g or 9.80665")
+    s.add_argument("--imu", metavar="PRESET|IMU.toml",
+                   help="add sensor errors: a preset (ideal, BNO055, MPU-6050, BMI088, "
+                        "ADIS16470, tactical) or an IMU.toml with [gyro] and [accel] tables")
+    s.add_argument("--seed", type=int, default=0, help="random seed for --imu (default 0)")
 
     names = sorted({n for table in ALGORITHMS.values() for n in table})
     n = sub.add_parser("navigate", help="integrate SIGNALS.csv from the initial state")
@@ -68,6 +72,16 @@ def build_parser() -> argparse.ArgumentParser:
                    help="one of " + ", ".join(names) + "; default the most accurate for the kind")
     n.add_argument("--g", type=_positive("--g"), metavar="G", help="gravity (m/s²), 9.80665")
 
+    a = sub.add_parser("assess", help="can this IMU track this motion? (Monte Carlo verdict)")
+    a.add_argument("motion", metavar="MOTION.toml")
+    a.add_argument("--imu", required=True, metavar="PRESET|IMU.toml")
+    a.add_argument("--rate", required=True, type=_positive("--rate"), metavar="HZ")
+    a.add_argument("--runs", required=True, type=int, metavar="N")
+    a.add_argument("--tolerance", required=True, type=_positive("--tolerance"), metavar="POS_M")
+    a.add_argument("--seed", type=int, default=0)
+    a.add_argument("--json", metavar="OUT.json")
+    a.add_argument("--scheduler", metavar="ADDRESS", help="run on a Dask cluster (imunav[dask])")
+
     r = sub.add_parser("reproduce", help="regenerate every reproduction figure and record")
     r.add_argument("--out", default="figures", metavar="DIR")
     return p
@@ -89,13 +103,50 @@ def cmd_simulate(args) -> int:
         raise ImunavError("output file would overwrite the motion file")
     motion, duration, g_file = load_motion_toml(args.motion)
     g = args.g if args.g is not None else (g_file if g_file is not None else G0)
-    sig = simulate_imu(motion, args.rate, duration, output=args.output, g=g)
+    if args.imu:
+        from imunav.sensors import ImuModel
+
+        model = ImuModel.load(args.imu)
+        sig = _simulate_with_errors(motion, model, args.rate, duration, args.output, g, args.seed)
+    else:
+        sig = simulate_imu(motion, args.rate, duration, output=args.output, g=g)
     write_signals(args.out, sig)
     if args.truth:
         t = np.arange(int(round(duration * args.rate)) + 1) / args.rate
         tr = truth_states(motion, t)
         write_states(args.truth, tr.t, tr.position, tr.velocity, tr.quaternion)
     print(f"wrote {len(sig)} {sig.kind} rows at {args.rate:g} Hz to {args.out}")
+    return 0
+
+
+def _simulate_with_errors(motion, model, rate, duration, output, g, seed):
+    from imunav.sensors import measure
+    from imunav.simulate import ImuSignals, simulate_imu
+
+    k = max(1, int(round((model.internal_rate or rate) / rate)))
+    sim = simulate_imu(motion, rate * k, duration, output=output, g=g)
+    rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0])
+    gm, am, flags = measure(model, sim.gyro, sim.accel, output, rate * k, rng, k)
+    t = sim.t[::k] if output == "rates" else sim.t[k - 1::k][: gm.shape[0]]
+    if flags.any():
+        print(f"warning: {int(flags.sum())} samples clipped at the sensor range", file=sys.stderr)
+    return ImuSignals(t, gm, am, output, rate, g)
+
+
+def cmd_assess(args) -> int:
+    from imunav.io import load_motion_toml
+    from imunav.montecarlo import assess, format_verdict, write_json
+    from imunav.sensors import ImuModel
+
+    if args.runs < 1:
+        raise ImunavError(f"--runs must be a positive integer, got {args.runs}")
+    motion, duration, g_file = load_motion_toml(args.motion)
+    model = ImuModel.load(args.imu)
+    r = assess(motion, model, args.rate, args.runs, args.tolerance, seed=args.seed,
+               duration=duration, scheduler=args.scheduler)
+    print(format_verdict(r))
+    if args.json:
+        write_json(r, args.json)
     return 0
 
 
@@ -166,7 +217,7 @@ def cmd_reproduce(args) -> int:
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
-        return {"simulate": cmd_simulate, "navigate": cmd_navigate,
+        return {"simulate": cmd_simulate, "navigate": cmd_navigate, "assess": cmd_assess,
                 "reproduce": cmd_reproduce}[args.command](args)
     except ImunavError as exc:
         print(f"imunav: error: {exc}", file=sys.stderr)

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from imunav.rotations import FloatArray, _dcm, _exp, _mul, _rotate
+from imunav.rotations import FloatArray, _exp, _mul, _rotate
 
 _G4 = np.array([0.5 - np.sqrt(3) / 6, 0.5 + np.sqrt(3) / 6])
 _G6 = np.array([0.5 - np.sqrt(15) / 10, 0.5, 0.5 + np.sqrt(15) / 10])
@@ -90,6 +90,7 @@ class LocalFit:
     """
 
     def __init__(self, samples: FloatArray, kind: str, h: float, m: int):
+        # samples: (N, 3) or batched (N, R, 3) — time first, any run axes in between.
         n_nodes = samples.shape[0] + (1 if kind == "increments" else 0)
         self.m = min(m, n_nodes)
         self.start, self.offset = _stencil(n_nodes, self.m)
@@ -100,23 +101,24 @@ class LocalFit:
             # themselves: the constant drops out of S' and the rounding stays at the size of
             # a few increments instead of the whole run's integral.
             win = samples[self.start[:, None] + np.arange(self.m - 1)]
-            self.local = np.concatenate([np.zeros((self.n, 1, 3)), np.cumsum(win, axis=1)],
-                                        axis=1)
+            self.local = np.concatenate([np.zeros((self.n, 1) + samples.shape[1:]),
+                                         np.cumsum(win, axis=1)], axis=1)
             self.deriv = 1
         else:
             self.local = samples[self.start[:, None] + np.arange(self.m)]
             self.deriv = 0
 
     def at(self, s: FloatArray) -> FloatArray:
-        """Signal at ``t_{k−1} + s·h`` for every interval k and every s: shape (N, len(s), 3)."""
+        """Signal at ``t_{k−1} + s·h`` for every interval k and every s:
+        shape (N, [R,] len(s), 3)."""
         s = np.atleast_1d(np.asarray(s, float))
-        out = np.empty((self.n, s.size, 3))
+        out = np.empty((self.n,) + self.local.shape[2:-1] + (s.size, 3))
         for o in np.unique(self.offset):
             sel = self.offset == o
             B = _basis(self.m, o + s, self.deriv)  # (len(s), m)
             if self.deriv:
                 B = B / self.h
-            out[sel] = np.einsum("rm,kmc->krc", B, self.local[sel])
+            out[sel] = np.einsum("rm,km...c->k...rc", B, self.local[sel])
         return out
 
 
@@ -134,11 +136,7 @@ def rotation_vectors(fit: LocalFit, order: int, nsub: int) -> FloatArray:
 def partial_attitudes(fit: LocalFit, order: int, s: FloatArray) -> FloatArray:
     """``E(s)`` = rotation from ``t_{k−1}`` to ``t_{k−1} + s·h`` (one Magnus step): (N, len(s), 4)."""
     nodes, step = _MAGNUS[order]
-    out = np.empty((fit.n, len(s), 4))
-    for i, si in enumerate(s):
-        w = fit.at(si * nodes)
-        out[:, i] = _exp(step(w, fit.h * si))
-    return out
+    return np.stack([_exp(step(fit.at(si * nodes), fit.h * si)) for si in s], axis=-2)
 
 
 def navigate_poly(kind: str, gyro: FloatArray, accel: FloatArray, h: float, q0: FloatArray,
@@ -147,16 +145,24 @@ def navigate_poly(kind: str, gyro: FloatArray, accel: FloatArray, h: float, q0: 
     """Attitude, velocity and position at every ``t_k`` (see the module docstring)."""
     wfit = LocalFit(gyro, kind, h, m)
     ffit = LocalFit(accel, kind, h, m)
-    q = cumulative_product(q0, rotation_vectors(wfit, order, nsub))
-    E = partial_attitudes(wfit, order, _GQ_X)                    # (N, 3, 4)
-    f = ffit.at(_GQ_X)                                            # (N, 3, 3)
+    dq = rotation_vectors(wfit, order, nsub)                     # (N, [R,] 4)
+    if dq.ndim == 2:
+        q = cumulative_product(q0, dq)
+    else:                                                         # batched runs
+        from imunav.strapdown import prefix_product
+
+        q = prefix_product(np.broadcast_to(q0, dq.shape[1:]).copy(), dq, _mul)
+        q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    E = partial_attitudes(wfit, order, _GQ_X)                    # (N, [R,] 3, 4)
+    f = ffit.at(_GQ_X)                                            # (N, [R,] 3, 3)
     rf = _rotate(E, f)                                            # R(E_i) f_i, body at t_{k−1}
-    dv_b = h * np.einsum("i,kic->kc", _GQ_W, rf)
-    dp_b = h * h * np.einsum("i,kic->kc", _GQ_W * (1 - _GQ_X), rf)
-    C = _dcm(q[:-1])
+    dv_b = h * np.einsum("i,k...ic->k...c", _GQ_W, rf)
+    dp_b = h * h * np.einsum("i,k...ic->k...c", _GQ_W * (1 - _GQ_X), rf)
     gn = np.array([0.0, 0.0, g])
-    dv = np.einsum("kij,kj->ki", C, dv_b) + gn * h
-    dp_extra = np.einsum("kij,kj->ki", C, dp_b) + gn * h * h / 2
+    dv = _rotate(q[:-1], dv_b) + gn * h
+    dp_extra = _rotate(q[:-1], dp_b) + gn * h * h / 2
+    v0 = np.broadcast_to(v0, dv.shape[1:])
+    p0 = np.broadcast_to(p0, dv.shape[1:])
     v = np.concatenate([v0[None], v0 + np.cumsum(dv, axis=0)])
     p = np.concatenate([p0[None], p0 + np.cumsum(h * v[:-1] + dp_extra, axis=0)])
     return q, v, p

@@ -93,9 +93,9 @@ def prefix_product(x0: np.ndarray, d: np.ndarray, mul, block: int | None = None)
 
 
 def _identity_like(x0: np.ndarray) -> np.ndarray:
-    if x0.shape == (4,):
-        return np.array([1.0, 0.0, 0.0, 0.0])
-    return np.eye(x0.shape[-1])
+    if x0.shape[-1] == 4:                      # quaternions, possibly batched (R, 4)
+        return np.broadcast_to([1.0, 0.0, 0.0, 0.0], x0.shape)
+    return np.broadcast_to(np.eye(x0.shape[-1]), x0.shape)
 
 
 def cumulative_product(q0: npt.ArrayLike, dq: npt.ArrayLike, block: int | None = None,

@@ -1,0 +1,280 @@
+"""Sensor error models from datasheets, applied to ideal rates or increments.
+
+One :class:`TriadModel` per sensor triad (gyro, accel); every term optional (0/None = absent):
+
+=====================  ==================================================================
+noise_density          white noise, N (rad/s/√Hz or m/s²/√Hz); Allan σ(τ) = N/√τ
+bias                   turn-on bias, 1σ per axis, drawn once per run
+bias_instability       Allan-deviation floor B; Gauss–Markov with ``bias_correlation_time``,
+                       else flicker (1/f) from a bank of Gauss–Markov processes (0.3–3000 s)
+random_walk            rate/acceleration random walk K; Allan σ(τ) = K √(τ/3)
+scale_factor           1σ per axis, drawn once per run
+misalignment           1σ cross-axis coupling (rad), drawn once per run (6 off-diagonal terms)
+g_sensitivity          gyro only: ω += G f_b, G 1σ per axis-pair, drawn once per run
+range                  saturation (clipped, flagged)
+resolution             quantisation step (rate units); increments carry the residual
+bandwidth              2nd-order Butterworth low-pass at the internal rate
+internal_rate          the sensor samples and filters internally at this rate, then decimates
+=====================  ==================================================================
+
+Randomness: each run draws from its own stream ``SeedSequence(seed).spawn(runs)[r]``, so a run
+is reproducible bit for bit whatever the chunking, and runs are independent.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass, field, fields, replace
+from pathlib import Path
+
+import numpy as np
+
+from imunav.errors import ImunavError
+from imunav.rotations import FloatArray
+from imunav.units import SPEC, parse
+
+TERMS = ("noise_density", "bias", "bias_instability", "random_walk", "scale_factor",
+         "misalignment", "g_sensitivity", "range", "resolution", "bandwidth")
+
+
+@dataclass(frozen=True)
+class TriadModel:
+    """Error parameters of one triad, in SI (see the module docstring)."""
+
+    noise_density: float = 0.0
+    bias: float = 0.0
+    bias_instability: float = 0.0
+    bias_correlation_time: float | None = None
+    random_walk: float = 0.0
+    scale_factor: float = 0.0
+    misalignment: float = 0.0
+    g_sensitivity: float = 0.0
+    range: float | None = None
+    resolution: float | None = None
+    bandwidth: float | None = None
+    internal_rate: float | None = None
+
+    @classmethod
+    def from_dict(cls, d: dict, triad: str) -> TriadModel:
+        """Parse ``{"noise_density": "0.014 deg/s/sqrt(Hz)", …}`` (numbers are SI)."""
+        if not isinstance(d, dict):
+            raise ImunavError(f"[{triad}] must be a table")
+        allowed = set(SPEC[triad])
+        bad = sorted(set(d) - allowed)
+        if bad:
+            raise ImunavError(f"unknown key(s) in [{triad}]: {', '.join(bad)}; expected "
+                              f"{', '.join(sorted(allowed))}")
+        return cls(**{k: parse(v, f"{triad}.{k}") for k, v in d.items()})
+
+    def active(self) -> list[str]:
+        """The error terms present."""
+        return [t for t in TERMS if getattr(self, t, None) not in (None, 0.0)]
+
+    def only(self, term: str | None) -> TriadModel:
+        """A copy keeping only ``term`` (and its correlation time); None → ideal."""
+        keep = {"bias_correlation_time", "internal_rate"} | ({term} if term else set())
+        return replace(self, **{f.name: (getattr(self, f.name) if f.name in keep else f.default)
+                                for f in fields(self)})
+
+
+@dataclass(frozen=True)
+class ImuModel:
+    """A 6-axis IMU: gyro and accelerometer triads."""
+
+    gyro: TriadModel = field(default_factory=TriadModel)
+    accel: TriadModel = field(default_factory=TriadModel)
+    name: str = "custom"
+
+    @classmethod
+    def from_dict(cls, d: dict, name: str = "custom") -> ImuModel:
+        bad = sorted(set(d) - {"gyro", "accel", "name"})
+        if bad:
+            raise ImunavError(f"unknown table(s) in IMU file: {', '.join(bad)}; expected "
+                              "[gyro] and [accel]")
+        return cls(TriadModel.from_dict(d.get("gyro", {}), "gyro"),
+                   TriadModel.from_dict(d.get("accel", {}), "accel"), d.get("name", name))
+
+    @classmethod
+    def from_toml(cls, path: str | Path) -> ImuModel:
+        path = Path(path)
+        if not path.is_file():
+            raise ImunavError(f"IMU file not found: {path}")
+        try:
+            with path.open("rb") as fh:
+                d = tomllib.load(fh)
+        except tomllib.TOMLDecodeError as exc:
+            raise ImunavError(f"malformed TOML in {path}: {exc}") from None
+        return cls.from_dict(d, path.stem)
+
+    @classmethod
+    def load(cls, spec: str) -> ImuModel:
+        """A preset name or a path to ``IMU.toml``."""
+        from imunav.presets import PRESETS
+
+        if spec in PRESETS:
+            return cls.from_dict(PRESETS[spec], spec)
+        if spec.endswith(".toml") or Path(spec).is_file():
+            return cls.from_toml(spec)
+        raise ImunavError(f"--imu {spec!r} is neither a preset ({', '.join(PRESETS)}) nor a "
+                          "TOML file")
+
+    def terms(self) -> list[str]:
+        """Active terms as ``gyro.noise_density`` etc."""
+        return [f"gyro.{t}" for t in self.gyro.active()] + \
+               [f"accel.{t}" for t in self.accel.active()]
+
+    def only(self, term: str | None) -> ImuModel:
+        """Keep one term (``"gyro.bias"``) — for error budgets; None → ideal."""
+        tri, _, name = (term or "").partition(".")
+        return ImuModel(self.gyro.only(name if tri == "gyro" else None),
+                        self.accel.only(name if tri == "accel" else None), f"{self.name}:{term}")
+
+    @property
+    def internal_rate(self) -> float | None:
+        r = [x for x in (self.gyro.internal_rate, self.accel.internal_rate) if x]
+        return max(r) if r else None
+
+
+# ---------------------------------------------------------------------------- processes
+
+
+def _gm_allan_var(tau: FloatArray, sigma: float, T: float) -> FloatArray:
+    """Allan variance of a first-order Gauss–Markov process (std σ, correlation time T)."""
+    q = 2 * sigma**2 / T
+    x = tau / T
+    return q * T**2 / tau * (1 - (3 - 4 * np.exp(-x) + np.exp(-2 * x)) / (2 * x))
+
+
+def _flicker_bank(T: float | None) -> list[float]:
+    return [T] if T else list(np.logspace(np.log10(0.3), np.log10(3000.0), 9))
+
+
+def bias_instability_sigma(B: float, T: float | None) -> float:
+    """Std of each Gauss–Markov component so the Allan-deviation maximum equals ``B``."""
+    taus = np.logspace(-3, 5, 4000)
+    var = sum(_gm_allan_var(taus, 1.0, t) for t in _flicker_bank(T))
+    return B / float(np.sqrt(var.max()))
+
+
+def _gauss_markov(rng, n: int, dt: float, sigma: float, T: float) -> FloatArray:
+    from scipy.signal import lfilter
+
+    a = np.exp(-dt / T)
+    w = rng.normal(0.0, sigma * np.sqrt(1 - a * a), (n, 3))
+    w[0] = rng.normal(0.0, sigma, 3)          # start in the stationary distribution
+    return lfilter([1.0], [1.0, -a], w, axis=0)
+
+
+def error_processes(m: TriadModel, rng, n: int, dt: float) -> dict[str, FloatArray]:
+    """Per-run draws: constant matrix/bias terms and the time-correlated bias (n, 3)."""
+    out = {"bias": rng.normal(0.0, m.bias, 3) if m.bias else np.zeros(3)}
+    M = np.eye(3)
+    if m.scale_factor:
+        M = M + np.diag(rng.normal(0.0, m.scale_factor, 3))
+    if m.misalignment:
+        off = rng.normal(0.0, m.misalignment, (3, 3))
+        np.fill_diagonal(off, 0.0)
+        M = M + off
+    out["matrix"] = M
+    out["g_sens"] = rng.normal(0.0, m.g_sensitivity, (3, 3)) if m.g_sensitivity else None
+    drift = np.zeros((n, 3))
+    if m.bias_instability:
+        s = bias_instability_sigma(m.bias_instability, m.bias_correlation_time)
+        for T in _flicker_bank(m.bias_correlation_time):
+            drift += _gauss_markov(rng, n, dt, s, T)
+    if m.random_walk:
+        drift += np.cumsum(rng.normal(0.0, m.random_walk * np.sqrt(dt), (n, 3)), axis=0)
+    out["drift"] = drift
+    return out
+
+
+def _lowpass(x: FloatArray, fc: float, fs: float, axis: int) -> FloatArray:
+    from scipy.signal import butter, sosfilt
+
+    if fc >= 0.5 * fs:
+        return x
+    return sosfilt(butter(2, fc, fs=fs, output="sos"), x, axis=axis)
+
+
+def apply_triad(m: TriadModel, ideal: FloatArray, kind: str, rate: float, rng,
+                other: FloatArray | None = None, decimate: int = 1
+                ) -> tuple[FloatArray, np.ndarray]:
+    """One run of one triad: ideal signal (n, 3) at ``rate`` → measured signal at
+    ``rate/decimate`` and the saturation flags per output sample.
+
+    ``kind`` is ``rates`` (values in rate units) or ``increments`` (integrals over each
+    1/rate interval). ``other`` is the ideal accelerometer signal (same kind) for the gyro's
+    g-sensitivity.
+    """
+    n = ideal.shape[0]
+    dt = 1.0 / rate
+    p = error_processes(m, rng, n, dt)
+    x = ideal / dt if kind == "increments" else ideal          # work in rate units
+    y = x @ p["matrix"].T + p["bias"] + p["drift"]
+    if p["g_sens"] is not None and other is not None:
+        f = other / dt if kind == "increments" else other
+        y = y + f @ p["g_sens"].T
+    if m.noise_density:
+        y = y + rng.normal(0.0, m.noise_density * np.sqrt(rate), (n, 3))
+    if m.bandwidth:
+        y = _lowpass(y, m.bandwidth, rate, axis=0)
+    flags = np.zeros(n, dtype=bool)
+    if m.range:
+        flags = np.any(np.abs(y) > m.range, axis=1)
+        y = np.clip(y, -m.range, m.range)
+    if decimate > 1:
+        k = decimate
+        nn = n // k
+        if kind == "increments":
+            y = y[: nn * k].reshape(nn, k, 3).mean(axis=1)     # sum of increments / (k·dt)
+            flags = flags[: nn * k].reshape(nn, k).any(axis=1)
+        else:
+            y, flags = y[::k], flags[::k]                      # samples at the output instants
+        dt = dt * k
+    if kind == "increments":
+        y = y * dt
+        if m.resolution:
+            q = m.resolution * dt
+            total = np.cumsum(y, axis=0)                       # residual carry: no loss
+            y = np.diff(np.round(total / q) * q, axis=0, prepend=np.zeros((1, 3)))
+    elif m.resolution:
+        y = np.round(y / m.resolution) * m.resolution
+    return y, flags
+
+
+def run_streams(seed: int, runs: int) -> list[np.random.Generator]:
+    """Independent generators, one per run (``SeedSequence(seed).spawn``)."""
+    return [np.random.default_rng(s) for s in np.random.SeedSequence(seed).spawn(runs)]
+
+
+def measure(model: ImuModel, gyro: FloatArray, accel: FloatArray, kind: str, rate: float,
+            rng, decimate: int = 1) -> tuple[FloatArray, FloatArray, np.ndarray]:
+    """One run: ideal gyro and accel (n, 3) → measured (gyro, accel, saturation flags)."""
+    g2, rg = np.random.default_rng(rng.integers(2**63)), rng
+    gm, fg = apply_triad(model.gyro, gyro, kind, rate, g2, other=accel, decimate=decimate)
+    am, fa = apply_triad(model.accel, accel, kind, rate, rg, decimate=decimate)
+    return gm, am, fg | fa
+
+
+# -------------------------------------------------------------------------------- Allan
+
+
+def allan_deviation(x: FloatArray, rate: float, taus=None) -> tuple[FloatArray, FloatArray]:
+    """Overlapping Allan deviation of rate samples ``x`` (n,) or (n, k) at ``rate`` Hz.
+
+    Returns ``(taus, adev)`` with ``adev`` of shape (len(taus),) or (len(taus), k).
+    """
+    x = np.asarray(x, float)
+    n = x.shape[0]
+    if taus is None:
+        ms = np.unique(np.logspace(0, np.log10(n // 3), 40).astype(int))
+    else:
+        ms = np.unique(np.maximum(1, np.round(np.asarray(taus) * rate).astype(int)))
+        ms = ms[ms <= (n - 1) // 2]
+    theta = np.concatenate([np.zeros((1,) + x.shape[1:]), np.cumsum(x, axis=0)]) / rate
+    out = []
+    for m in ms:
+        d = theta[2 * m:] - 2 * theta[m:-m] + theta[: -2 * m]
+        tau = m / rate
+        out.append(np.sqrt(np.mean(d * d, axis=0) / (2 * tau * tau)))
+    return ms / rate, np.array(out)

@@ -1,0 +1,209 @@
+"""Sensor error models: units, Allan self-check of every preset, reproducibility, chain."""
+
+import json
+
+import numpy as np
+import pytest
+
+from imunav import ImunavError, Motion
+from imunav.montecarlo import assess, monte_carlo
+from imunav.presets import PRESETS
+from imunav.sensors import (
+    ImuModel,
+    TriadModel,
+    _flicker_bank,
+    _gm_allan_var,
+    allan_deviation,
+    apply_triad,
+    bias_instability_sigma,
+    measure,
+)
+from imunav.units import parse
+
+
+@pytest.mark.parametrize("value, key, si", [
+    ("0.014 deg/s/sqrt(Hz)", "gyro.noise_density", 0.014 * np.pi / 180),
+    ("0.34 °/√h", "gyro.noise_density", 0.34 * np.pi / 180 / 60),
+    ("150 ug/sqrt(Hz)", "accel.noise_density", 150e-6 * 9.80665),
+    ("10 deg/h", "gyro.bias_instability", 10 * np.pi / 180 / 3600),
+    ("2000 deg/s", "gyro.range", 2000 * np.pi / 180),
+    ("16 g", "accel.range", 16 * 9.80665),
+    ("150 ppm", "gyro.scale_factor", 150e-6),
+    ("1 kHz", "accel.internal_rate", 1000.0),
+    (0.5, "gyro.bias", 0.5),
+])
+def test_units(value, key, si):
+    assert parse(value, key) == pytest.approx(si, rel=1e-12)
+
+
+@pytest.mark.parametrize("value, key, msg", [
+    ("0.014 deg/s", "gyro.noise_density", "not a unit of"),
+    ("3 furlongs", "accel.bias", "not a unit of"),
+    ("fast", "gyro.range", "expected '<number> <unit>'"),
+    ("1 g", "gyro.wobble", "unknown error parameter"),
+    (-1.0, "gyro.bias", "non-negative"),
+])
+def test_unit_errors(value, key, msg):
+    with pytest.raises(ImunavError, match=msg):
+        parse(value, key)
+
+
+def _analytic_adev(m: TriadModel, tau):
+    var = m.noise_density**2 / tau + m.random_walk**2 * tau / 3
+    if m.bias_instability:
+        s = bias_instability_sigma(m.bias_instability, m.bias_correlation_time)
+        var = var + sum(_gm_allan_var(tau, s, T) for T in _flicker_bank(m.bias_correlation_time))
+    return np.sqrt(var)
+
+
+def _stochastic(m: TriadModel) -> TriadModel:
+    return TriadModel(noise_density=m.noise_density, bias_instability=m.bias_instability,
+                      bias_correlation_time=m.bias_correlation_time, random_walk=m.random_walk)
+
+
+@pytest.mark.parametrize("preset", [p for p in PRESETS if p != "ideal"])
+@pytest.mark.parametrize("triad", ["gyro", "accel"])
+def test_allan_self_check_every_preset(preset, triad):
+    """The simulated stationary output reproduces the specified noise density at τ = 1 s
+    (within 8 %) and the analytic Allan curve of the model, floor included (within 20 %
+    over 1–300 s; 2 h at 10 Hz, 3 axes)."""
+    m = _stochastic(getattr(ImuModel.load(preset), triad))
+    rate = 10.0
+    rng = np.random.default_rng(7)
+    y, _ = apply_triad(m, np.zeros((72_000, 3)), "rates", rate, rng)
+    taus, adev = allan_deviation(y, rate, [1, 3, 10, 30, 100, 300])
+    expected = _analytic_adev(m, taus)
+    got = adev.mean(axis=1)
+    assert got[0] == pytest.approx(expected[0], rel=0.08)
+    assert got[0] == pytest.approx(np.sqrt(m.noise_density**2 + _analytic_adev(
+        TriadModel(bias_instability=m.bias_instability,
+                   bias_correlation_time=m.bias_correlation_time), np.array([1.0]))[0] ** 2),
+        rel=0.08)
+    np.testing.assert_allclose(got, expected, rtol=0.2)
+
+
+def test_bias_instability_floor_and_rrw_slope():
+    B = parse("10 deg/h", "gyro.bias_instability")
+    m = TriadModel(bias_instability=B)
+    y, _ = apply_triad(m, np.zeros((72_000, 3)), "rates", 10.0, np.random.default_rng(1))
+    taus, adev = allan_deviation(y, 10.0, np.logspace(0, 2.7, 12))
+    floor = adev.mean(axis=1).max()
+    assert floor == pytest.approx(B, rel=0.2)            # the Allan floor is the specified B
+    K = parse("1 deg/h/sqrt(h)", "gyro.random_walk")
+    y, _ = apply_triad(TriadModel(random_walk=K), np.zeros((72_000, 3)), "rates", 10.0,
+                       np.random.default_rng(2))
+    taus, adev = allan_deviation(y, 10.0, [30, 100, 300])
+    slope = np.polyfit(np.log(taus), np.log(adev.mean(axis=1)), 1)[0]
+    assert slope == pytest.approx(0.5, abs=0.1)           # rate random walk: +1/2
+    np.testing.assert_allclose(adev.mean(axis=1), K * np.sqrt(taus / 3), rtol=0.25)
+
+
+def test_reproducible_and_independent():
+    model = ImuModel.load("BMI088")
+    z = np.zeros((500, 3))
+    a = measure(model, z, z, "rates", 100.0, np.random.default_rng(5))
+    b = measure(model, z, z, "rates", 100.0, np.random.default_rng(5))
+    c = measure(model, z, z, "rates", 100.0, np.random.default_rng(6))
+    assert np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1])
+    assert abs(np.corrcoef(a[0][:, 0], c[0][:, 0])[0, 1]) < 0.2
+
+
+def test_quantisation_carries_residual_in_increments():
+    m = TriadModel(resolution=0.01)                # rad/s step → 1e-4 rad at 100 Hz
+    x = np.full((1000, 3), 0.00123)                # 0.123 rad/s, not a multiple of the step
+    y, _ = apply_triad(m, x * 0.01, "increments", 100.0, np.random.default_rng(0))
+    assert np.allclose(y / 1e-4, np.round(y / 1e-4))   # every output is a whole number of LSB
+    assert abs(y.sum(axis=0) - x.sum(axis=0) * 0.01).max() <= 1e-4   # nothing lost overall
+
+
+def test_saturation_flags():
+    m = TriadModel(range=1.0)
+    x = np.zeros((10, 3))
+    x[3, 1] = 2.5
+    y, flags = apply_triad(m, x, "rates", 100.0, np.random.default_rng(0))
+    assert flags.sum() == 1 and flags[3] and y[3, 1] == 1.0
+
+
+def test_internal_rate_chain_decimates():
+    motion = Motion(roll="0.3*sin(2*t)", duration=2.0)
+    model = ImuModel.load("ideal")
+    model = ImuModel(TriadModel(internal_rate=1000.0, bandwidth=200.0), TriadModel(), "x")
+    mc = monte_carlo(motion, model, 100.0, runs=2, seed=0, output="increments", progress=False)
+    assert mc.t.size == 201 and mc.attitude.max() < 1e-3
+
+
+def test_imu_toml_and_bad_keys(tmp_path):
+    from pathlib import Path
+
+    m = ImuModel.from_toml(Path(__file__).parents[1] / "examples" / "my_imu.toml")
+    assert "gyro.g_sensitivity" in m.terms() and m.internal_rate == 1000.0
+    p = tmp_path / "bad.toml"
+    p.write_text('[gyro]\nnoise = "1 deg/s"\n')
+    with pytest.raises(ImunavError, match="unknown key"):
+        ImuModel.from_toml(p)
+    with pytest.raises(ImunavError, match="neither a preset"):
+        ImuModel.load("BNO999")
+
+
+WALK = Motion(x="2*sin(0.5*t)", y="t", yaw="0.3*sin(t)", roll="0.1*sin(2*t)", duration=20.0,
+              name="walk")
+
+
+def test_monte_carlo_ideal_is_exact_and_errors_grow():
+    mc0 = monte_carlo(WALK, ImuModel.load("ideal"), 50.0, runs=3, progress=False)
+    assert mc0.position.max() < 1e-8
+    mc = monte_carlo(WALK, ImuModel.load("tactical"), 50.0, runs=20, seed=1, progress=False)
+    env = mc.envelope()
+    assert env[50][-1] < env[68][-1] < env[95][-1] and env[95][-1] > 0.01
+
+
+def test_monte_carlo_chunking_does_not_change_results():
+    a = monte_carlo(WALK, ImuModel.load("BNO055"), 50.0, runs=6, seed=4, chunk=6, progress=False)
+    b = monte_carlo(WALK, ImuModel.load("BNO055"), 50.0, runs=6, seed=4, chunk=2, progress=False)
+    assert np.array_equal(a.position, b.position)
+
+
+def test_assess_same_verdict_twice():
+    r1 = assess(WALK, ImuModel.load("tactical"), 50.0, 20, 1.0, seed=3, progress=False)
+    r2 = assess(WALK, ImuModel.load("tactical"), 50.0, 20, 1.0, seed=3, progress=False)
+    assert r1 == r2
+    assert set(r1) >= {"fraction_within_tolerance", "time_p95_exceeds_s", "min_rate_hz",
+                       "error_budget", "runs"}
+    assert next(iter(r1["error_budget"])) in ("accel.bias", "gyro.bias", "accel.scale_factor",
+                                              "gyro.noise_density", "accel.bias_instability",
+                                              "gyro.bias_instability", "accel.noise_density",
+                                              "gyro.scale_factor")
+
+
+def test_cli_assess_and_simulate_imu(tmp_path, capsys):
+    from imunav.cli import main
+    from imunav.io import read_signals
+
+    motion = tmp_path / "m.toml"
+    motion.write_text('duration = 10\n[position]\nx = "t"\n[attitude]\nyaw = "0.2*sin(t)"\n')
+    out = tmp_path / "a.json"
+    args = ["assess", str(motion), "--imu", "BMI088", "--rate", "50", "--runs", "8",
+            "--tolerance", "2", "--seed", "1", "--json", str(out)]
+    assert main(args) == 0
+    first = capsys.readouterr().out
+    r1 = json.loads(out.read_text())
+    assert main(args) == 0
+    assert capsys.readouterr().out == first and json.loads(out.read_text()) == r1
+    assert "SUITABLE" in first
+    sig = tmp_path / "s.csv"
+    assert main(["simulate", str(motion), "--rate", "50", "--out", str(sig), "--imu", "MPU-6050",
+                 "--seed", "2"]) == 0
+    s = read_signals(sig)
+    assert np.abs(s.gyro).max() > 0.01                       # a 20 °/s-class bias is visible
+    assert main(["assess", str(motion), "--imu", "nope", "--rate", "50", "--runs", "2",
+                 "--tolerance", "1"]) == 2
+
+
+def test_dask_local_cluster_matches_local():
+    distributed = pytest.importorskip("dask.distributed")
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  dashboard_address=None) as cluster:
+        d = monte_carlo(WALK, ImuModel.load("BNO055"), 50.0, runs=4, seed=9, chunk=2,
+                        scheduler=cluster.scheduler_address, progress=False)
+    loc = monte_carlo(WALK, ImuModel.load("BNO055"), 50.0, runs=4, seed=9, progress=False)
+    assert np.array_equal(d.position, loc.position)
