@@ -203,7 +203,8 @@ def format_verdict(r: dict) -> str:
         lines.append(f"  Dominant error: {top} ({r['error_budget'][top]:.3g} m alone, 95th pct).")
         lines.append("  Error budget (each term alone, final 95th-percentile position error):")
         for k, v in r["error_budget"].items():
-            lines.append(f"    {k:28s} {v:10.3g} m")
+            val = f"{v:10.3g}" if v >= 1e-9 else f"{'< 1e-9':>10s}"   # below: rounding
+            lines.append(f"    {k:28s} {val} m")
     mr = r["min_rate_hz"]
     lines.append("  Sampling alone stays below a tenth of the tolerance from "
                  + (f"{mr:g} Hz." if mr else "no tested rate (≤ 5 kHz)."))
