@@ -140,19 +140,22 @@ def partial_attitudes(fit: LocalFit, order: int, s: FloatArray) -> FloatArray:
 
 
 def navigate_poly(kind: str, gyro: FloatArray, accel: FloatArray, h: float, q0: FloatArray,
-                  v0: FloatArray, p0: FloatArray, g: float, *, m: int, order: int, nsub: int,
-                  cumulative_product) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Attitude, velocity and position at every ``t_k`` (see the module docstring)."""
+                  v0: FloatArray, p0: FloatArray, g: float, *, m: int, order: int,
+                  nsub: int) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Attitude, velocity and position at every ``t_k`` (see the module docstring).
+
+    ``gyro``/``accel`` (N, 3), or (N, R, 3) for R runs at once with ``q0`` (R, 4).
+    """
+    from imunav.strapdown import cumulative_product, exp_product
+
     wfit = LocalFit(gyro, kind, h, m)
     ffit = LocalFit(accel, kind, h, m)
-    dq = rotation_vectors(wfit, order, nsub)                     # (N, [R,] 4)
-    if dq.ndim == 2:
-        q = cumulative_product(q0, dq)
-    else:                                                         # batched runs
-        from imunav.strapdown import prefix_product
-
-        q = prefix_product(np.broadcast_to(q0, dq.shape[1:]).copy(), dq, _mul)
-        q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    q0 = np.broadcast_to(q0, gyro.shape[1:-1] + (4,))
+    if nsub == 1:
+        nodes, step = _MAGNUS[order]
+        q = exp_product(q0, step(wfit.at(nodes), h))
+    else:
+        q = cumulative_product(q0, rotation_vectors(wfit, order, nsub))
     E = partial_attitudes(wfit, order, _GQ_X)                    # (N, [R,] 3, 4)
     f = ffit.at(_GQ_X)                                            # (N, [R,] 3, 3)
     rf = _rotate(E, f)                                            # R(E_i) f_i, body at t_{k−1}

@@ -51,7 +51,6 @@ def _mc_chunk(gyro, accel, kind, sim_rate, k, model, seeds, q0, v0, p0, g, truth
               truth_q, h):
     """One chunk of runs (module-level and picklable: a Dask task)."""
     from imunav.highorder import navigate_poly
-    from imunav.strapdown import cumulative_product
 
     G, A, S = [], [], []
     for ss in seeds:
@@ -62,8 +61,7 @@ def _mc_chunk(gyro, accel, kind, sim_rate, k, model, seeds, q0, v0, p0, g, truth
     G = np.stack(G, axis=1)
     A = np.stack(A, axis=1)                                   # (N, R, 3)
     m, order = _ALGO[kind]
-    q, v, p = navigate_poly(kind, G, A, h, q0, v0, p0, g, m=m, order=order, nsub=1,
-                            cumulative_product=cumulative_product)
+    q, v, p = navigate_poly(kind, G, A, h, q0, v0, p0, g, m=m, order=order, nsub=1)
     pos = np.linalg.norm(p - truth_p[:, None], axis=-1).T
     vel = np.linalg.norm(v - truth_v[:, None], axis=-1).T
     att = _angle(q, truth_q[:, None]).T

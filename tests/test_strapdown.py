@@ -5,8 +5,7 @@ import pytest
 
 from imunav import ImunavError, Motion, navigate, simulate_imu
 from imunav.assess import fit_order, nav_errors
-from imunav.rotations import _mul, quat_normalize
-from imunav.strapdown import ALGORITHMS, DEFAULT_ALGORITHM, cumulative_product
+from imunav.strapdown import ALGORITHMS, DEFAULT_ALGORITHM
 
 # Moves along and turns about all three axes; 10 s.
 MOTION = Motion(x="3*sin(0.4*t)", y="2*t + 0.1*t**2", z="-0.5*cos(0.6*t)",
@@ -20,18 +19,6 @@ def _run(kind, name, rate, motion=MOTION):
     nav = navigate(sig, motion.attitude(t0)[0], motion.velocity(t0)[0], motion.position(t0)[0],
                    algorithm=name)
     return nav, nav_errors(nav, motion)
-
-
-def test_cumulative_product_matches_plain_loop(rng):
-    dq = quat_normalize(np.concatenate([np.ones((1001, 1)), 0.05 * rng.normal(size=(1001, 3))],
-                                       axis=1))
-    q0 = quat_normalize(rng.normal(size=4))
-    ref = [q0]
-    for d in dq:
-        ref.append(_mul(ref[-1], d))
-    ref = np.array(ref)
-    for block in (None, 1, 7, 2000):
-        np.testing.assert_allclose(cumulative_product(q0, dq, block=block), ref, atol=1e-12)
 
 
 # Per-component thresholds at 100 Hz over 10 s, from the measured errors with a margin ≈ 3×.
