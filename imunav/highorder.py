@@ -24,8 +24,9 @@ Blanes, Casas & Ros (2000), BIT 40, eq. for Ω^[6]; rotation-vector attitude, Bo
 from __future__ import annotations
 
 import numpy as np
+from numpy.lib.stride_tricks import sliding_window_view
 
-from imunav.rotations import FloatArray, _exp, _mul, _rotate
+from imunav.rotations import FloatArray, _cross, _exp, _mul, _rotate
 
 _G4 = np.array([0.5 - np.sqrt(3) / 6, 0.5 + np.sqrt(3) / 6])
 _G6 = np.array([0.5 - np.sqrt(15) / 10, 0.5, 0.5 + np.sqrt(15) / 10])
@@ -34,7 +35,7 @@ _GQ_X, _GQ_W = _G6, np.array([5 / 18, 8 / 18, 5 / 18])  # 3-point Gauss–Legend
 
 def _br(x: FloatArray, y: FloatArray) -> FloatArray:
     """Lie bracket for right-multiplied body-frame rotation vectors: ``[x, y] = y × x``."""
-    return np.cross(y, x)
+    return _cross(y, x)
 
 
 def magnus4(w: FloatArray, h: FloatArray | float) -> FloatArray:
@@ -87,38 +88,52 @@ class LocalFit:
 
     ``kind="rates"``: interpolate the ``N+1`` samples (value = signal). ``kind="increments"``:
     interpolate cumulative sums of the ``N`` increments and differentiate (value = rate).
+
+    Either way a value is a fixed linear combination of the stencil's raw samples, so the fit
+    is evaluated as tap weights ``W[s, i]`` applied to sliding windows of the samples — one
+    matrix product (BLAS) per stencil offset. For increments ``ω(s) = Σ_j B′_j(s) S_j / h`` with
+    ``S_j = Σ_{i<j} Δθ_i`` becomes ``Σ_i W_i(s) Δθ_i`` with ``W_i = Σ_{j>i} B′_j / h``: no long
+    cumulative sums, so the rounding stays at the size of a few increments.
     """
 
     def __init__(self, samples: FloatArray, kind: str, h: float, m: int):
         # samples: (N, 3) or batched (N, R, 3) — time first, any run axes in between.
+        self.x = samples
         n_nodes = samples.shape[0] + (1 if kind == "increments" else 0)
         self.m = min(m, n_nodes)
         self.start, self.offset = _stencil(n_nodes, self.m)
         self.n = n_nodes - 1
         self.h = h
-        if kind == "increments":
-            # Cumulative sums relative to each stencil's first node, summed from the increments
-            # themselves: the constant drops out of S' and the rounding stays at the size of
-            # a few increments instead of the whole run's integral.
-            win = samples[self.start[:, None] + np.arange(self.m - 1)]
-            self.local = np.concatenate([np.zeros((self.n, 1) + samples.shape[1:]),
-                                         np.cumsum(win, axis=1)], axis=1)
-            self.deriv = 1
-        else:
-            self.local = samples[self.start[:, None] + np.arange(self.m)]
-            self.deriv = 0
+        self.kind = kind
+        self.taps = self.m - 1 if kind == "increments" else self.m
 
-    def at(self, s: FloatArray) -> FloatArray:
-        """Signal at ``t_{k−1} + s·h`` for every interval k and every s:
-        shape (N, [R,] len(s), 3)."""
+    def weights(self, offset: int, s: FloatArray) -> FloatArray:
+        """Tap weights ``W`` (len(s), taps): value at ``s`` = ``W @ samples[start:start+taps]``
+        for an interval at ``offset`` inside its stencil."""
+        if self.kind == "increments":
+            B = _basis(self.m, offset + np.asarray(s, float), 1) / self.h       # (S, m)
+            return np.cumsum(B[:, ::-1], axis=1)[:, ::-1][:, 1:]              # Σ_{j>i} B_j
+        return _basis(self.m, offset + np.asarray(s, float), 0)
+
+    def at(self, s: FloatArray, lo: int = 0, hi: int | None = None) -> FloatArray:
+        """Signal at ``t_{k−1} + s·h`` for the intervals ``k = lo+1 .. hi`` (all by default) and
+        every s: shape (hi − lo, [R,] len(s), 3)."""
+        return np.moveaxis(self.at_nodes(s, lo, hi), 0, -2)
+
+    def at_nodes(self, s: FloatArray, lo: int = 0, hi: int | None = None) -> FloatArray:
+        """As :meth:`at`, node axis first: (len(s), hi − lo, [R,] 3), each node contiguous."""
         s = np.atleast_1d(np.asarray(s, float))
-        out = np.empty((self.n,) + self.local.shape[2:-1] + (s.size, 3))
-        for o in np.unique(self.offset):
-            sel = self.offset == o
-            B = _basis(self.m, o + s, self.deriv)  # (len(s), m)
-            if self.deriv:
-                B = B / self.h
-            out[sel] = np.einsum("rm,km...c->k...rc", B, self.local[sel])
+        hi = self.n if hi is None else hi
+        rest = self.x.shape[1:]                                   # ([R,] 3)
+        out = np.empty((s.size, hi - lo) + rest)
+        offs = self.offset[lo:hi]
+        windows = sliding_window_view(self.x, self.taps, axis=0)  # (N−taps+1, [R,] 3, taps)
+        for o in np.unique(offs):
+            ks = np.nonzero(offs == o)[0]                         # a contiguous run of intervals
+            st = self.start[lo + ks[0]]
+            win = np.ascontiguousarray(windows[st: st + ks.size]).reshape(-1, self.taps)
+            out[:, ks[0]: ks[-1] + 1] = (self.weights(o, s) @ win.T).reshape(
+                (s.size, ks.size) + rest)
         return out
 
 
@@ -133,10 +148,8 @@ def rotation_vectors(fit: LocalFit, order: int, nsub: int) -> FloatArray:
     return dq
 
 
-def partial_attitudes(fit: LocalFit, order: int, s: FloatArray) -> FloatArray:
-    """``E(s)`` = rotation from ``t_{k−1}`` to ``t_{k−1} + s·h`` (one Magnus step): (N, len(s), 4)."""
-    nodes, step = _MAGNUS[order]
-    return np.stack([_exp(step(fit.at(si * nodes), fit.h * si)) for si in s], axis=-2)
+#: Intervals per chunk of the high-order navigation (bounds the temporaries' memory).
+_POLY_CHUNK = 1 << 15
 
 
 def navigate_poly(kind: str, gyro: FloatArray, accel: FloatArray, h: float, q0: FloatArray,
@@ -144,28 +157,67 @@ def navigate_poly(kind: str, gyro: FloatArray, accel: FloatArray, h: float, q0: 
                   nsub: int) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Attitude, velocity and position at every ``t_k`` (see the module docstring).
 
-    ``gyro``/``accel`` (N, 3), or (N, R, 3) for R runs at once with ``q0`` (R, 4).
+    ``gyro``/``accel`` (N, 3), or (N, R, 3) for R runs at once with ``q0`` (R, 4). The
+    per-interval work is done chunk by chunk so that temporaries stay small; the outputs and
+    one rotation vector and two body-frame increments per interval are all that is stored.
     """
     from imunav.strapdown import cumulative_product, exp_product
 
     wfit = LocalFit(gyro, kind, h, m)
     ffit = LocalFit(accel, kind, h, m)
+    n = wfit.n
     q0 = np.broadcast_to(q0, gyro.shape[1:-1] + (4,))
+    nodes, step = _MAGNUS[order]
+    # ω at the Magnus nodes of the whole interval, then of each partial [0, sᵢ] (sᵢ Gauss nodes)
+    s_all = np.concatenate([nodes] + [si * nodes for si in _GQ_X])
+    nn = nodes.size
+    shape = (n,) + gyro.shape[1:]
+    phi = np.empty(shape) if nsub == 1 else None
+    dv_b, dp_b = np.empty(shape), np.empty(shape)
+    for lo in range(0, n, _POLY_CHUNK):
+        hi = min(n, lo + _POLY_CHUNK)
+        w = wfit.at_nodes(s_all, lo, hi)                         # (12, c, [R,] 3)
+        if nsub == 1:
+            phi[lo:hi] = step(np.moveaxis(w[:nn], 0, -2), h)
+        f = ffit.at_nodes(_GQ_X, lo, hi)                         # (3, c, [R,] 3)
+        dv_b[lo:hi] = 0.0
+        dp_b[lo:hi] = 0.0
+        for i, si in enumerate(_GQ_X):                           # R(Eᵢ) fᵢ, body at t_{k−1}
+            wi = np.moveaxis(w[nn * (i + 1): nn * (i + 2)], 0, -2)
+            rf = _rotate(_exp(step(wi, h * si)), f[i])
+            dv_b[lo:hi] += (h * _GQ_W[i]) * rf
+            dp_b[lo:hi] += (h * h * _GQ_W[i] * (1 - si)) * rf
     if nsub == 1:
-        nodes, step = _MAGNUS[order]
-        q = exp_product(q0, step(wfit.at(nodes), h))
+        q = exp_product(q0, phi)
     else:
         q = cumulative_product(q0, rotation_vectors(wfit, order, nsub))
-    E = partial_attitudes(wfit, order, _GQ_X)                    # (N, [R,] 3, 4)
-    f = ffit.at(_GQ_X)                                            # (N, [R,] 3, 3)
-    rf = _rotate(E, f)                                            # R(E_i) f_i, body at t_{k−1}
-    dv_b = h * np.einsum("i,k...ic->k...c", _GQ_W, rf)
-    dp_b = h * h * np.einsum("i,k...ic->k...c", _GQ_W * (1 - _GQ_X), rf)
     gn = np.array([0.0, 0.0, g])
-    dv = _rotate(q[:-1], dv_b) + gn * h
-    dp_extra = _rotate(q[:-1], dp_b) + gn * h * h / 2
-    v0 = np.broadcast_to(v0, dv.shape[1:])
-    p0 = np.broadcast_to(p0, dv.shape[1:])
-    v = np.concatenate([v0[None], v0 + np.cumsum(dv, axis=0)])
-    p = np.concatenate([p0[None], p0 + np.cumsum(h * v[:-1] + dp_extra, axis=0)])
+    v0 = np.broadcast_to(v0, dv_b.shape[1:])
+    p0 = np.broadcast_to(p0, dv_b.shape[1:])
+    v = np.empty((n + 1,) + dv_b.shape[1:])
+    p = np.empty_like(v)
+    v[0], p[0] = v0, p0
+    dv = _rotate(q[:-1], dv_b)                                   # navigation-frame increments
+    dv += gn * h
+    np.cumsum(dv, axis=0, out=v[1:])
+    v[1:] += v0
+    dp = _rotate(q[:-1], dp_b)
+    dp += gn * h * h / 2
+    dp += h * v[:-1]
+    np.cumsum(dp, axis=0, out=p[1:])
+    p[1:] += p0
     return q, v, p
+
+
+def reference_tables(n: int, kind: str, h: float, m: int, order: int = 6):
+    """``start, offset, wq, wf`` for :func:`imunav.reference.poly_navigation`: the stencil of
+    every interval and the tap weights of every stencil offset, at the Magnus nodes of the
+    whole interval followed by those of each partial interval ``[0, sᵢ]`` (wq), and at the
+    quadrature nodes (wf) — the same tables :func:`navigate_poly` uses."""
+    nodes, _ = _MAGNUS[order]
+    fit = LocalFit(np.zeros((n, 3)), kind, h, m)
+    s_all = np.concatenate([nodes] + [si * nodes for si in _GQ_X])
+    offs = range(int(fit.offset.max()) + 1)
+    wq = np.array([fit.weights(o, s_all) for o in offs])
+    wf = np.array([fit.weights(o, _GQ_X) for o in offs])
+    return fit.start, fit.offset, wq, wf

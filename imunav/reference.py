@@ -9,7 +9,7 @@ purposes:
 - the **compiled baseline** of ``benchmarks/bench.py``: the same functions JIT-compiled with
   numba (the ``bench`` extra) are what "the speed of compiled code" means there.
 
-They use only ``math`` and indexing, so numba compiles them unchanged. Each writes into
+They use only ``math``, indexing and ``np.zeros``, so numba compiles them unchanged. Each writes into
 preallocated output arrays ``q (N+1, 4)``, ``v (N+1, 3)``, ``p (N+1, 3)`` whose first row holds
 the initial state.
 """
@@ -17,6 +17,8 @@ the initial state.
 from __future__ import annotations
 
 import math
+
+import numpy as np
 
 
 def exp_attitude(dth, q):
@@ -78,3 +80,91 @@ def _rotate(w, x, y, z, a, b, c):
     return (a + w * t0 + (y * t2 - z * t1),
             b + w * t1 + (z * t0 - x * t2),
             c + w * t2 + (x * t1 - y * t0))
+
+
+# ------------------------------------------------------------------ high-order (poly8_m6)
+
+_SQ15 = math.sqrt(15.0)
+
+
+def _cross(a0, a1, a2, b0, b1, b2):
+    return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
+
+
+def _magnus6(w, r, h):
+    """Sixth-order Magnus rotation vector from ω at the 3 Gauss nodes ``w[r], w[r+1], w[r+2]``
+    (rows of a (S, 3) array), as :func:`imunav.highorder.magnus6`; the body-frame Lie
+    bracket is ``[x, y] = y × x``."""
+    k2, k3 = _SQ15 * h / 3, 10 * h / 3
+    a10, a11, a12 = h * w[r + 1, 0], h * w[r + 1, 1], h * w[r + 1, 2]
+    a20, a21, a22 = (k2 * (w[r + 2, 0] - w[r, 0]), k2 * (w[r + 2, 1] - w[r, 1]),
+                     k2 * (w[r + 2, 2] - w[r, 2]))
+    a30 = k3 * (w[r + 2, 0] - 2 * w[r + 1, 0] + w[r, 0])
+    a31 = k3 * (w[r + 2, 1] - 2 * w[r + 1, 1] + w[r, 1])
+    a32 = k3 * (w[r + 2, 2] - 2 * w[r + 1, 2] + w[r, 2])
+    c10, c11, c12 = _cross(a20, a21, a22, a10, a11, a12)                  # [a1, a2]
+    x0, x1, x2 = _cross(2 * a30 + c10, 2 * a31 + c11, 2 * a32 + c12, a10, a11, a12)
+    c20, c21, c22 = -x0 / 60, -x1 / 60, -x2 / 60                         # −[a1, 2a3 + c1]/60
+    y0, y1, y2 = _cross(a20 + c20, a21 + c21, a22 + c22,
+                        -20 * a10 - a30 + c10, -20 * a11 - a31 + c11, -20 * a12 - a32 + c12)
+    return a10 + a30 / 12 + y0 / 240, a11 + a31 / 12 + y1 / 240, a12 + a32 / 12 + y2 / 240
+
+
+def _exp(p0, p1, p2):
+    ang = math.sqrt(p0 * p0 + p1 * p1 + p2 * p2)
+    s = math.sin(0.5 * ang) / ang if ang > 0.0 else 0.5
+    return math.cos(0.5 * ang), s * p0, s * p1, s * p2
+
+
+def poly_navigation(dth, dv, h, g, start, offset, wq, wf, gx, gw, q, v, p):
+    """Increment navigation of the ``poly8_m6`` algorithm, one interval at a time.
+
+    For interval k (0-based) with stencil ``start[k]`` and ``offset[k]``: the rates at the 12
+    fit nodes ``ω_s = Σ_i wq[offset, s, i] Δθ[start + i]`` (nodes 0–2 the Gauss nodes of the
+    whole interval, 3i+3 … 3i+5 those of ``[0, gx[i]]``) and the specific force at the 3 Gauss
+    nodes ``f_s = Σ_i wf[offset, s, i] Δv[start + i]``; the tap weights are
+    :meth:`imunav.highorder.LocalFit.weights`. Then ``q_k = q_{k−1} ⊗ exp(Magnus6)``,
+    ``Δv_b = h Σ gw_i R(E_i) f_i``, ``Δp_b = h² Σ gw_i (1 − gx_i) R(E_i) f_i`` and
+    ``v_k = v_{k−1} + C_{k−1} Δv_b + g_n h``, ``p_k = p_{k−1} + (v_{k−1} h + C_{k−1} Δp_b + g_n h²/2)``.
+    """
+    n = dth.shape[0]
+    taps = wq.shape[2]
+    w = q[0, 0], q[0, 1], q[0, 2], q[0, 3]
+    wsa = np.zeros((wq.shape[1], 3))
+    fsa = np.zeros((wf.shape[1], 3))
+    for k in range(n):
+        st, o = start[k], offset[k]
+        for s in range(wq.shape[1]):
+            for c in range(3):
+                acc = 0.0
+                for i in range(taps):
+                    acc += wq[o, s, i] * dth[st + i, c]
+                wsa[s, c] = acc
+        for s in range(wf.shape[1]):
+            for c in range(3):
+                acc = 0.0
+                for i in range(taps):
+                    acc += wf[o, s, i] * dv[st + i, c]
+                fsa[s, c] = acc
+        b = _exp(*_magnus6(wsa, 0, h))
+        w = (w[0] * b[0] - w[1] * b[1] - w[2] * b[2] - w[3] * b[3],
+             w[0] * b[1] + w[1] * b[0] + w[2] * b[3] - w[3] * b[2],
+             w[0] * b[2] - w[1] * b[3] + w[2] * b[0] + w[3] * b[1],
+             w[0] * b[3] + w[1] * b[2] - w[2] * b[1] + w[3] * b[0])
+        r = 1.0 / math.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2] + w[3] * w[3])
+        for c in range(4):
+            q[k + 1, c] = w[c] * r
+        dvb = [0.0, 0.0, 0.0]
+        dpb = [0.0, 0.0, 0.0]
+        for i in range(gx.shape[0]):
+            e = _exp(*_magnus6(wsa, 3 * i + 3, h * gx[i]))
+            rf = _rotate(e[0], e[1], e[2], e[3], fsa[i, 0], fsa[i, 1], fsa[i, 2])
+            for c in range(3):
+                dvb[c] += h * gw[i] * rf[c]
+                dpb[c] += h * h * gw[i] * (1 - gx[i]) * rf[c]
+        a = _rotate(q[k, 0], q[k, 1], q[k, 2], q[k, 3], dvb[0], dvb[1], dvb[2])
+        d = _rotate(q[k, 0], q[k, 1], q[k, 2], q[k, 3], dpb[0], dpb[1], dpb[2])
+        for c in range(3):
+            gz = g if c == 2 else 0.0
+            v[k + 1, c] = v[k, c] + (a[c] + gz * h)
+            p[k + 1, c] = p[k, c] + ((d[c] + gz * h * h / 2) + h * v[k, c])

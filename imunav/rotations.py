@@ -80,8 +80,27 @@ def _rotate(q: FloatArray, v: FloatArray) -> FloatArray:
     # v' = v + 2w (u × v) + 2 u × (u × v), u the vector part of unit q.
     w = q[..., :1]
     u = q[..., 1:]
-    t = 2.0 * np.cross(u, v)
-    return v + w * t + np.cross(u, t)
+    t = _cross(u, v)
+    t *= 2.0
+    out = _cross(u, t)
+    out += v
+    out += w * t
+    return out
+
+
+def _cross(a: FloatArray, b: FloatArray) -> FloatArray:
+    """``a × b`` over the last axis (3), broadcasting; componentwise, without the axis moves
+    and casts of ``np.cross``, which dominate its cost on long arrays."""
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    np.multiply(a1, b2, out=out[..., 0])
+    out[..., 0] -= a2 * b1
+    np.multiply(a2, b0, out=out[..., 1])
+    out[..., 1] -= a0 * b2
+    np.multiply(a0, b1, out=out[..., 2])
+    out[..., 2] -= a1 * b0
+    return out
 
 
 def quat_to_dcm(q: npt.ArrayLike) -> FloatArray:

@@ -89,3 +89,26 @@ def test_chain_shapes_are_checked():
         cumulative_product([1.0, 0, 0, 0], np.zeros((5, 2, 4)))
     with pytest.raises(ImunavError, match="phi must have shape"):
         exp_product(np.tile([1.0, 0, 0, 0], (3, 1)), np.zeros((5, 2, 3)))
+
+
+@pytest.mark.parametrize("chunk", [1 << 15, 100, 7])
+def test_default_poly_navigation_matches_reference_loop(rng, monkeypatch, chunk):
+    from imunav import highorder
+    from imunav.highorder import _GQ_W, _GQ_X, reference_tables
+
+    monkeypatch.setattr(highorder, "_POLY_CHUNK", chunk)
+
+    n, h, g = 1500, 0.01, 9.80665
+    t = np.arange(1, n + 1) * h
+    dth = h * np.stack([np.sin(t), 0.5 * np.cos(0.7 * t), 0.3 * np.sin(1.3 * t)], axis=1)
+    dv = h * np.stack([np.sin(t), np.cos(t), -g + 0.1 * np.sin(2 * t)], axis=1)
+    q0 = quat_normalize([1.0, 0.1, -0.2, 0.3])
+    q, v, p = np.zeros((n + 1, 4)), np.zeros((n + 1, 3)), np.zeros((n + 1, 3))
+    q[0], v[0], p[0] = q0, [1.0, 2.0, 0.0], [3.0, 0.0, -1.0]
+    start, offset, wq, wf = reference_tables(n, "increments", h, 8)
+    reference.poly_navigation(dth, dv, h, g, start, offset, wq, wf, _GQ_X, _GQ_W, q, v, p)
+    nav = navigate(ImuSignals(t, dth, dv, "increments", 1 / h, g), q0, v[0], p[0],
+                   algorithm="poly8_m6")
+    np.testing.assert_allclose(nav.quaternion, q, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(nav.velocity, v, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(nav.position, p, rtol=1e-12, atol=1e-12)
