@@ -6,7 +6,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: all install reproduce test lint unit nbval lab clean
+.PHONY: all install reproduce test lint unit nbval lab bench clean
 
 all: test
 
@@ -23,7 +23,7 @@ reproduce: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/imunav reproduce --out figures
 
 lint: $(STAMP)
-	$(BIN)/ruff check imunav tests notebooks
+	$(BIN)/ruff check imunav tests notebooks benchmarks
 
 unit: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python -m pytest -q tests
@@ -32,6 +32,11 @@ nbval: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python -m pytest -q --nbval --nbval-current-env notebooks
 
 test: lint unit nbval
+
+# imunav vs a numba-compiled loop, ahrs, Monte Carlo throughput, memory → benchmarks/results.json
+bench: $(STAMP)
+	$(BIN)/python -m pip install --quiet -e ".[bench]"
+	$(BIN)/python benchmarks/bench.py
 
 lab: $(STAMP)
 	$(BIN)/jupyter lab notebooks

@@ -148,7 +148,7 @@ def rotation_vectors(fit: LocalFit, order: int, nsub: int) -> FloatArray:
     return dq
 
 
-#: Intervals per chunk of the high-order navigation (bounds the temporaries' memory).
+#: Interval-runs per chunk of the high-order navigation (bounds the temporaries' memory).
 _POLY_CHUNK = 1 << 15
 
 
@@ -174,8 +174,10 @@ def navigate_poly(kind: str, gyro: FloatArray, accel: FloatArray, h: float, q0: 
     shape = (n,) + gyro.shape[1:]
     phi = np.empty(shape) if nsub == 1 else None
     dv_b, dp_b = np.empty(shape), np.empty(shape)
-    for lo in range(0, n, _POLY_CHUNK):
-        hi = min(n, lo + _POLY_CHUNK)
+    runs = int(np.prod(gyro.shape[1:-1]))
+    per = max(1, _POLY_CHUNK // runs)                            # intervals per chunk
+    for lo in range(0, n, per):
+        hi = min(n, lo + per)
         w = wfit.at_nodes(s_all, lo, hi)                         # (12, c, [R,] 3)
         if nsub == 1:
             phi[lo:hi] = step(np.moveaxis(w[:nn], 0, -2), h)
@@ -189,23 +191,24 @@ def navigate_poly(kind: str, gyro: FloatArray, accel: FloatArray, h: float, q0: 
             dp_b[lo:hi] += (h * h * _GQ_W[i] * (1 - si)) * rf
     if nsub == 1:
         q = exp_product(q0, phi)
+        del phi
     else:
         q = cumulative_product(q0, rotation_vectors(wfit, order, nsub))
     gn = np.array([0.0, 0.0, g])
-    v0 = np.broadcast_to(v0, dv_b.shape[1:])
-    p0 = np.broadcast_to(p0, dv_b.shape[1:])
     v = np.empty((n + 1,) + dv_b.shape[1:])
     p = np.empty_like(v)
     v[0], p[0] = v0, p0
-    dv = _rotate(q[:-1], dv_b)                                   # navigation-frame increments
-    dv += gn * h
-    np.cumsum(dv, axis=0, out=v[1:])
-    v[1:] += v0
-    dp = _rotate(q[:-1], dp_b)
-    dp += gn * h * h / 2
-    dp += h * v[:-1]
-    np.cumsum(dp, axis=0, out=p[1:])
-    p[1:] += p0
+    for lo in range(0, n, per):                                  # navigation-frame increments
+        hi = min(n, lo + per)
+        v[lo + 1: hi + 1] = _rotate(q[lo:hi], dv_b[lo:hi]) + gn * h
+    del dv_b
+    np.cumsum(v[1:], axis=0, out=v[1:])
+    v[1:] += v[0]
+    for lo in range(0, n, per):
+        hi = min(n, lo + per)
+        p[lo + 1: hi + 1] = _rotate(q[lo:hi], dp_b[lo:hi]) + gn * h * h / 2 + h * v[lo:hi]
+    np.cumsum(p[1:], axis=0, out=p[1:])
+    p[1:] += p[0]
     return q, v, p
 
 

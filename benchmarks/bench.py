@@ -1,0 +1,233 @@
+"""imunav performance, measured side by side with peers in one process on the same inputs.
+
+Run with ``make bench`` (installs the ``bench`` extra: numba, ahrs). Prints a table and writes
+``benchmarks/results.json``. Every time is the median of several repeats, outputs allocated
+inside the timed call for every implementation (the compiled loops included).
+
+- imunav navigation (attitude, velocity, position) of 1e6 increments, default algorithm
+  (``poly8_m6``) and ``exact_exponential``, and the exact-exponential attitude alone;
+- the compiled baseline: :mod:`imunav.reference` (plain one-sample loops doing the same
+  arithmetic) JIT-compiled with numba;
+- ahrs ``AngularRate`` (closed form, the same q ⊗ exp(ω Δt) update) on 1e5 rate samples,
+  scaled to 1e6;
+- imunav ``simulate_imu`` of 1e6 increments (adaptive Gauss–Legendre quadrature);
+- Monte Carlo of 1000 runs × 6000 samples (simulate + sensor errors + navigate) vs the single
+  long run's throughput (simulate + navigate of 1e6 samples);
+- peak memory (tracemalloc, numpy allocations) of the 1e6-sample default navigation over the
+  size of its output arrays.
+
+Numerical agreement of each compared pair is checked and reported (the run fails if it is
+worse than the stated bound).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import statistics
+import sys
+import time
+import tracemalloc
+from pathlib import Path
+
+import numpy as np
+
+import imunav
+from imunav import reference
+from imunav.benchmarks import spinning_cone
+from imunav.highorder import _GQ_W, _GQ_X, reference_tables
+from imunav.montecarlo import monte_carlo
+from imunav.sensors import ImuModel
+from imunav.simulate import simulate_imu
+from imunav.strapdown import exp_product, navigate
+
+HERE = Path(__file__).resolve().parent
+
+
+def timed(f, repeats):
+    """Median wall time (s) of ``repeats`` calls and the last result."""
+    ts, out = [], None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        out = f()
+        ts.append(time.perf_counter() - t0)
+    return statistics.median(ts), out
+
+
+def compiled_reference():
+    """The imunav.reference loops compiled with numba (helpers first, so calls inline)."""
+    import numba
+
+    for name in ("_rotate", "_cross", "_magnus6", "_exp", "exp_attitude"):
+        setattr(reference, name, numba.njit(getattr(reference, name)))
+    return {"exp_attitude": reference.exp_attitude,
+            "exp_navigation": numba.njit(reference.exp_navigation),
+            "poly_navigation": numba.njit(reference.poly_navigation)}
+
+
+def states(n, q0):
+    q, v, p = np.empty((n + 1, 4)), np.empty((n + 1, 3)), np.empty((n + 1, 3))
+    q[0], v[0], p[0] = q0, 0.0, 0.0
+    return q, v, p
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--samples", type=int, default=1_000_000)
+    ap.add_argument("--ahrs-samples", type=int, default=100_000)
+    ap.add_argument("--mc-runs", type=int, default=1000)
+    ap.add_argument("--mc-samples", type=int, default=6000)
+    ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--out", default=str(HERE / "results.json"))
+    a = ap.parse_args(argv)
+    N, rate = a.samples, 100.0
+    h = 1.0 / rate
+    rows, checks = {}, {}
+
+    def row(key, label, seconds, samples):
+        rows[key] = {"label": label, "seconds": seconds, "samples": samples,
+                     "ns_per_sample": seconds / samples * 1e9}
+        print(f"  {label:<58s} {seconds * 1e3:10.1f} ms  {seconds / samples * 1e9:8.1f} ns/sample",
+              flush=True)
+
+    print(f"imunav {imunav.__version__} · numpy {np.__version__} · {platform.processor() or 'cpu'}"
+          f" · {os.cpu_count()} cores · {N:,} samples", flush=True)
+    motion = spinning_cone(duration=N / rate)
+
+    # --- simulate (also the input of every navigation below)
+    t_sim, sig = timed(lambda: simulate_imu(motion, rate, N / rate, output="increments"), 1)
+    row("simulate", "imunav simulate_imu, increments (quadrature to 1e-13)", t_sim, N)
+    q0 = motion.attitude(np.array([0.0]))[0]
+    dth, dv, g = sig.gyro, sig.accel, sig.g
+
+    # --- imunav navigation
+    t_def, nav = timed(lambda: navigate(sig, q0), a.repeats)
+    row("imunav_default", "imunav navigate, default poly8_m6 (att+vel+pos)", t_def, N)
+    t_exp, nav_e = timed(lambda: navigate(sig, q0, algorithm="exact_exponential"), a.repeats)
+    row("imunav_exp_nav", "imunav navigate, exact_exponential (att+vel+pos)", t_exp, N)
+    t_att, q_att = timed(lambda: exp_product(q0, dth), a.repeats)
+    row("imunav_exp_att", "imunav exact-exponential attitude (exp_product)", t_att, N)
+
+    # --- compiled reference loops (numba)
+    jit = compiled_reference()
+    tables = reference_tables(N, "increments", h, 8)
+
+    def c_att():
+        q, _, _ = states(N, q0)
+        jit["exp_attitude"](dth, q)
+        return q
+
+    def c_exp():
+        q, v, p = states(N, q0)
+        jit["exp_navigation"](dth, dv, h, g, q, v, p)
+        return q, v, p
+
+    def c_poly():
+        q, v, p = states(N, q0)
+        jit["poly_navigation"](dth, dv, h, g, *tables, _GQ_X, _GQ_W, q, v, p)
+        return q, v, p
+
+    for f in (c_att, c_exp, c_poly):                              # compile outside the timing
+        f()
+    tc_att, cq = timed(c_att, a.repeats)
+    row("compiled_exp_att", "numba loop, exact-exponential attitude", tc_att, N)
+    tc_exp, (cq2, cv2, cp2) = timed(c_exp, a.repeats)
+    row("compiled_exp_nav", "numba loop, exact_exponential (att+vel+pos)", tc_exp, N)
+    tc_def, (cq3, cv3, cp3) = timed(c_poly, max(3, a.repeats // 2))
+    row("compiled_default", "numba loop, poly8_m6 (att+vel+pos)", tc_def, N)
+    checks["exp_attitude_max_abs_diff"] = float(np.max(np.abs(q_att - cq)))
+    checks["exp_nav_q_max_abs_diff"] = float(np.max(np.abs(nav_e.quaternion - cq2)))
+    # velocity and position differences relative to the gravity terms the arithmetic cancels
+    # (g·T and g·T²/2): the states of a motion without translation are rounding-level numbers
+    vs, ps = g * N * h, g * (N * h) ** 2 / 2
+    checks["exp_nav_v_diff_over_gT"] = float(np.max(np.abs(nav_e.velocity - cv2))) / vs
+    checks["exp_nav_p_diff_over_gT2"] = float(np.max(np.abs(nav_e.position - cp2))) / ps
+    checks["default_q_max_abs_diff"] = float(np.max(np.abs(nav.quaternion - cq3)))
+    checks["default_v_diff_over_gT"] = float(np.max(np.abs(nav.velocity - cv3))) / vs
+    checks["default_p_diff_over_gT2"] = float(np.max(np.abs(nav.position - cp3))) / ps
+
+    # --- ahrs AngularRate on rates (the same right-multiplied exponential update)
+    from ahrs.filters import AngularRate
+
+    na = a.ahrs_samples
+    rs = simulate_imu(motion, rate, na / rate, output="rates")
+    gyr = rs.gyro
+    t_ahrs, ar = timed(lambda: AngularRate(gyr=gyr, q0=q0, frequency=rate).Q, 1)
+    row("ahrs_1e5", f"ahrs AngularRate (closed form), {na:,} samples", t_ahrs, na)
+    t_im_r, q_im_r = timed(lambda: exp_product(q0, gyr[1:] * h), a.repeats)
+    checks["ahrs_vs_imunav_max_abs_diff"] = float(np.max(np.abs(ar - q_im_r)))
+    ahrs_per_sample = t_ahrs / na
+
+    # --- peak memory of the default 1e6 navigation
+    tracemalloc.start()
+    out = navigate(sig, q0)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    out_bytes = out.quaternion.nbytes + out.velocity.nbytes + out.position.nbytes + out.t.nbytes
+    del out
+
+    # --- Monte Carlo vs the single long run
+    R, n_mc = a.mc_runs, a.mc_samples
+    model = ImuModel.load("MPU-6050")
+    mc_motion = spinning_cone(duration=n_mc / rate)
+    t_mc, _ = timed(lambda: monte_carlo(mc_motion, model, rate, n_mc / rate, runs=R, seed=1,
+                                        progress=False), 1)
+    row("monte_carlo", f"imunav monte_carlo {R} runs × {n_mc} samples (MPU-6050)", t_mc, R * n_mc)
+    mc_sps = R * n_mc / t_mc
+    single_sps = N / (t_sim + t_def)
+
+    ratios = {
+        "imunav_over_compiled": {
+            "exact_exponential_attitude": t_att / tc_att,
+            "exact_exponential_navigation": t_exp / tc_exp,
+            "default_navigation": t_def / tc_def,
+        },
+        "ahrs_over_imunav": ahrs_per_sample / (t_att / N),
+        "monte_carlo_samples_per_second": mc_sps,
+        "single_run_samples_per_second": single_sps,
+        "monte_carlo_over_single_run": mc_sps / single_sps,
+        "peak_memory_over_outputs": peak / out_bytes,
+    }
+    targets = {
+        "exact_exponential_attitude ≤ 3× compiled": ratios["imunav_over_compiled"][
+            "exact_exponential_attitude"] <= 3,
+        "default navigation ≤ 5× compiled": ratios["imunav_over_compiled"]["default_navigation"] <= 5,
+        "≥ 100× faster than ahrs": ratios["ahrs_over_imunav"] >= 100,
+        "Monte Carlo ≥ single long run": ratios["monte_carlo_over_single_run"] >= 1,
+        "peak memory ≤ 4× outputs": ratios["peak_memory_over_outputs"] <= 4,
+    }
+    print("\nratios")
+    for k, v in ratios["imunav_over_compiled"].items():
+        print(f"  imunav / compiled, {k:<36s} {v:8.2f}×")
+    print(f"  ahrs / imunav (attitude, per sample)            {ratios['ahrs_over_imunav']:10.0f}×")
+    print(f"  Monte Carlo throughput          {mc_sps:14,.0f} samples/s "
+          f"({ratios['monte_carlo_over_single_run']:.2f}× the single run's {single_sps:,.0f})")
+    print(f"  peak memory / output arrays (1e6 default nav)   {ratios['peak_memory_over_outputs']:8.2f}×"
+          f"  ({peak / 1e6:.0f} MB / {out_bytes / 1e6:.0f} MB)")
+    print("\nagreement")
+    for k, v in checks.items():
+        print(f"  {k:<36s} {v:.2e}")
+    print("\ntargets")
+    for k, ok in targets.items():
+        print(f"  {'met ' if ok else 'MISSED'}  {k}")
+    bounds = {"exp_attitude_max_abs_diff": 1e-12, "exp_nav_q_max_abs_diff": 1e-12,
+              "default_q_max_abs_diff": 1e-12, "ahrs_vs_imunav_max_abs_diff": 1e-12,
+              "exp_nav_v_diff_over_gT": 1e-12, "exp_nav_p_diff_over_gT2": 1e-12,
+              "default_v_diff_over_gT": 1e-12, "default_p_diff_over_gT2": 1e-12}
+    bad = [k for k, b in bounds.items() if not checks[k] <= b]
+    result = {"machine": {"cores": os.cpu_count(), "processor": platform.processor(),
+                          "python": sys.version.split()[0], "numpy": np.__version__},
+              "samples": N, "repeats": a.repeats, "timings": rows, "ratios": ratios,
+              "agreement": checks, "agreement_bounds": bounds, "targets_met": targets}
+    Path(a.out).write_text(json.dumps(result, indent=2, ensure_ascii=False) + "\n")
+    print(f"\nwrote {a.out}")
+    if bad:
+        print(f"DISAGREEMENT beyond bounds: {bad}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
