@@ -106,14 +106,21 @@ class LocalFit:
         self.h = h
         self.kind = kind
         self.taps = self.m - 1 if kind == "increments" else self.m
+        self._weights: dict[tuple, FloatArray] = {}
 
     def weights(self, offset: int, s: FloatArray) -> FloatArray:
         """Tap weights ``W`` (len(s), taps): value at ``s`` = ``W @ samples[start:start+taps]``
-        for an interval at ``offset`` inside its stencil."""
-        if self.kind == "increments":
-            B = _basis(self.m, offset + np.asarray(s, float), 1) / self.h       # (S, m)
-            return np.cumsum(B[:, ::-1], axis=1)[:, ::-1][:, 1:]              # Σ_{j>i} B_j
-        return _basis(self.m, offset + np.asarray(s, float), 0)
+        for an interval at ``offset`` inside its stencil (computed once per offset and s)."""
+        s = np.asarray(s, float)
+        key = (int(offset), s.tobytes())
+        if key not in self._weights:
+            if self.kind == "increments":
+                B = _basis(self.m, offset + s, 1) / self.h                    # (S, m)
+                W = np.cumsum(B[:, ::-1], axis=1)[:, ::-1][:, 1:]             # Σ_{j>i} B_j
+            else:
+                W = _basis(self.m, offset + s, 0)
+            self._weights[key] = W
+        return self._weights[key]
 
     def at(self, s: FloatArray, lo: int = 0, hi: int | None = None) -> FloatArray:
         """Signal at ``t_{k−1} + s·h`` for the intervals ``k = lo+1 .. hi`` (all by default) and

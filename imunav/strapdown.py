@@ -231,9 +231,6 @@ def _quat_scan(q0: np.ndarray, n: int, factors, normalize: bool) -> FloatArray:
     return out
 
 
-_QI = np.array([1.0, 0.0, 0.0, 0.0])
-
-
 def _check_chain(q0, x, name: str, last: int) -> tuple[np.ndarray, np.ndarray, bool]:
     """Validate ``q0`` (4,) or (R, 4) and factors (N, 4|3) or (N, R, 4|3); return batched views."""
     q0 = as_float_array(q0, "q0", last=4)

@@ -31,6 +31,30 @@ def _plain_chain(q0, dq):
     return out / np.linalg.norm(out, axis=-1, keepdims=True)
 
 
+def _smooth_case(n):
+    """Smooth increments at 100 Hz and state arrays holding an arbitrary initial state."""
+    h, g = 0.01, 9.80665
+    t = np.arange(1, n + 1) * h
+    dth = h * np.stack([np.sin(t), 0.5 * np.cos(0.7 * t), 0.3 * np.sin(1.3 * t)], axis=1)
+    dv = h * np.stack([np.sin(t), np.cos(t), -g + 0.1 * np.sin(2 * t)], axis=1)
+    q0 = quat_normalize([1.0, 0.1, -0.2, 0.3])
+    q, v, p = np.zeros((n + 1, 4)), np.zeros((n + 1, 3)), np.zeros((n + 1, 3))
+    q[0], v[0], p[0] = q0, [1.0, 2.0, 0.0], [3.0, 0.0, -1.0]
+    return h, g, dth, dv, q, v, p
+
+
+def _navigate(dth, dv, h, g, q, v, p, algorithm):
+    t = np.arange(1, dth.shape[0] + 1) * h
+    return navigate(ImuSignals(t, dth, dv, "increments", 1 / h, g), q[0], v[0], p[0],
+                    algorithm=algorithm)
+
+
+def _assert_matches(nav, q, v, p):
+    np.testing.assert_allclose(nav.quaternion, q, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(nav.velocity, v, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(nav.position, p, rtol=1e-12, atol=1e-12)
+
+
 @pytest.mark.parametrize("n", [0, 1, 5, 64, 65, 1001, 4099])
 def test_cumulative_product_matches_plain_loop(rng, scan_sizes, n):
     dq = quat_normalize(np.concatenate([np.ones((n, 1)), 0.05 * rng.normal(size=(n, 3))], axis=1))
@@ -69,19 +93,9 @@ def test_batched_chains_equal_single_chains(rng, scan_sizes):
 
 
 def test_exact_exponential_navigation_matches_reference_loop(rng, scan_sizes):
-    n, h, g = 3000, 0.01, 9.80665
-    t = np.arange(1, n + 1) * h
-    dth = h * np.stack([np.sin(t), 0.5 * np.cos(0.7 * t), 0.3 * np.sin(1.3 * t)], axis=1)
-    dv = h * np.stack([np.sin(t), np.cos(t), -g + 0.1 * np.sin(2 * t)], axis=1)
-    q0 = quat_normalize([1.0, 0.1, -0.2, 0.3])
-    q, v, p = np.zeros((n + 1, 4)), np.zeros((n + 1, 3)), np.zeros((n + 1, 3))
-    q[0], v[0], p[0] = q0, [1.0, 2.0, 0.0], [3.0, 0.0, -1.0]
+    h, g, dth, dv, q, v, p = _smooth_case(3000)
     reference.exp_navigation(dth, dv, h, g, q, v, p)
-    nav = navigate(ImuSignals(t, dth, dv, "increments", 1 / h, g), q0, v[0], p[0],
-                   algorithm="exact_exponential")
-    np.testing.assert_allclose(nav.quaternion, q, rtol=0, atol=1e-12)
-    np.testing.assert_allclose(nav.velocity, v, rtol=1e-12, atol=1e-12)
-    np.testing.assert_allclose(nav.position, p, rtol=1e-12, atol=1e-12)
+    _assert_matches(_navigate(dth, dv, h, g, q, v, p, "exact_exponential"), q, v, p)
 
 
 def test_chain_shapes_are_checked():
@@ -97,18 +111,7 @@ def test_default_poly_navigation_matches_reference_loop(rng, monkeypatch, chunk)
     from imunav.highorder import _GQ_W, _GQ_X, reference_tables
 
     monkeypatch.setattr(highorder, "_POLY_CHUNK", chunk)
-
-    n, h, g = 1500, 0.01, 9.80665
-    t = np.arange(1, n + 1) * h
-    dth = h * np.stack([np.sin(t), 0.5 * np.cos(0.7 * t), 0.3 * np.sin(1.3 * t)], axis=1)
-    dv = h * np.stack([np.sin(t), np.cos(t), -g + 0.1 * np.sin(2 * t)], axis=1)
-    q0 = quat_normalize([1.0, 0.1, -0.2, 0.3])
-    q, v, p = np.zeros((n + 1, 4)), np.zeros((n + 1, 3)), np.zeros((n + 1, 3))
-    q[0], v[0], p[0] = q0, [1.0, 2.0, 0.0], [3.0, 0.0, -1.0]
-    start, offset, wq, wf = reference_tables(n, "increments", h, 8)
+    h, g, dth, dv, q, v, p = _smooth_case(1500)
+    start, offset, wq, wf = reference_tables(dth.shape[0], "increments", h, 8)
     reference.poly_navigation(dth, dv, h, g, start, offset, wq, wf, _GQ_X, _GQ_W, q, v, p)
-    nav = navigate(ImuSignals(t, dth, dv, "increments", 1 / h, g), q0, v[0], p[0],
-                   algorithm="poly8_m6")
-    np.testing.assert_allclose(nav.quaternion, q, rtol=0, atol=1e-12)
-    np.testing.assert_allclose(nav.velocity, v, rtol=1e-12, atol=1e-12)
-    np.testing.assert_allclose(nav.position, p, rtol=1e-12, atol=1e-12)
+    _assert_matches(_navigate(dth, dv, h, g, q, v, p, "poly8_m6"), q, v, p)
