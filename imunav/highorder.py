@@ -23,6 +23,9 @@ Blanes, Casas & Ros (2000), BIT 40, eq. for Ω^[6]; rotation-vector attitude, Bo
 
 from __future__ import annotations
 
+from fractions import Fraction
+from functools import lru_cache
+
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
@@ -67,20 +70,50 @@ def _stencil(n_nodes: int, m: int) -> tuple[np.ndarray, np.ndarray]:
     return start, k - start
 
 
+_BASIS_CACHE: dict[tuple, FloatArray] = {}
+
+
 def _basis(m: int, x: FloatArray, deriv: int) -> FloatArray:
     """``B[i, j]``: value (deriv=0) or derivative (deriv=1) at ``x[i]`` of the Lagrange basis
-    polynomial j for the nodes 0..m−1 (centred monomials for conditioning)."""
-    c = (m - 1) / 2
-    nodes = np.arange(m) - c
-    V = np.vander(nodes, m, increasing=True)          # V[j, p] = node_j^p
-    C = np.linalg.inv(V)                               # basis_j(x) = Σ_p C[p, j] x^p
-    xs = np.asarray(x, float) - c
-    p = np.arange(m)
-    if deriv == 0:
-        X = xs[:, None] ** p[None, :]
-    else:
-        X = p[None, :] * xs[:, None] ** np.maximum(p - 1, 0)[None, :]
-    return X @ C
+    polynomial j for the nodes 0..m−1.
+
+    Computed exactly in rational arithmetic (the polynomial's coefficients are rationals, the
+    double ``x[i]`` is a rational) and rounded once, so every weight is correctly rounded
+    whatever the machine. (Inverting the Vandermonde matrix in double precision left 5e-15–1e-14
+    relative errors, which a long run accumulates as a systematic drift of the same size.)
+    Cached: each (m, deriv, points) is computed once per process.
+    """
+    x = np.asarray(x, float)
+    key = (m, deriv, x.tobytes())
+    if key not in _BASIS_CACHE:
+        out = np.empty((x.size, m))
+        for j in range(m):
+            c = _lagrange_coefficients(m, j)                 # ascending powers, exact
+            if deriv:
+                c = [k * c[k] for k in range(1, m)]
+            for i, xi in enumerate(x):
+                X = Fraction(float(xi))
+                acc = Fraction(0)
+                for ck in reversed(c):                       # Horner, exact
+                    acc = acc * X + ck
+                out[i, j] = float(acc)
+        out.flags.writeable = False
+        _BASIS_CACHE[key] = out
+    return _BASIS_CACHE[key]
+
+
+@lru_cache(maxsize=None)
+def _lagrange_coefficients(m: int, j: int) -> tuple[Fraction, ...]:
+    """Exact ascending-power coefficients of ``Π_{k≠j} (x − k)/(j − k)`` for nodes 0..m−1."""
+    c = [Fraction(1)]
+    for k in range(m):
+        if k == j:
+            continue
+        c = [Fraction(0)] + c                                # multiply by x …
+        for i in range(len(c) - 1):
+            c[i] -= k * c[i + 1]                             # … minus k
+        c = [ci / (j - k) for ci in c]
+    return tuple(c)
 
 
 class LocalFit:

@@ -35,7 +35,10 @@ THRESHOLDS = {  # (attitude rad, velocity m/s, position m); measured ×≈3, see
     ("increments", "ignagni3"): (1.1e-7, 6.3e-4, 3.3e-3),    # 3.6e-8, 2.1e-4, 1.1e-3
     ("increments", "ignagni4"): (1.6e-7, 6.3e-4, 3.3e-3),    # 5.4e-8, 2.1e-4, 1.1e-3
     ("increments", "poly6_m4"): (2.1e-11, 6.7e-10, 2.8e-9),  # 7.0e-12, 2.2e-10, 9.2e-10
-    ("increments", "poly8_m6"): (6e-15, 3.4e-13, 1.6e-12),   # 1.8e-15, 1.1e-13, 5.4e-13
+    # rounding floor (√N·ε-sized, N = 1000): measured 1.1e-15, 2.3e-14, 7.1e-14 since the tap
+    # weights are computed in 30-digit arithmetic (1.9e-14, 1.6e-12, 8.0e-12 on an AMD EPYC with
+    # weights from a double-precision Vandermonde inverse)
+    ("increments", "poly8_m6"): (5e-15, 1e-13, 3e-13),
 }
 
 
