@@ -24,7 +24,7 @@ Blanes, Casas & Ros (2000), BIT 40, eq. for Ω^[6]; rotation-vector attitude, Bo
 from __future__ import annotations
 
 from fractions import Fraction
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
@@ -102,7 +102,7 @@ def _basis(m: int, x: FloatArray, deriv: int) -> FloatArray:
     return _BASIS_CACHE[key]
 
 
-@lru_cache(maxsize=None)
+@cache
 def _lagrange_coefficients(m: int, j: int) -> tuple[Fraction, ...]:
     """Exact ascending-power coefficients of ``Π_{k≠j} (x − k)/(j − k)`` for nodes 0..m−1."""
     c = [Fraction(1)]
