@@ -17,7 +17,9 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from imunav.motion import POSITION_KEYS, BaseMotion, Motion, T, _lambdify, parse_law
+from imunav.errors import ImunavError, as_float_array
+from imunav.laws import T, evaluate, lambdify, parse_law
+from imunav.motion import POSITION_KEYS, BaseMotion, Motion
 from imunav.rotations import FloatArray
 
 
@@ -32,7 +34,7 @@ class QuaternionLawMotion(BaseMotion):
     """
 
     def __init__(self, q, x=0, y=0, z=0, *, duration: float | None = None, name: str = "motion"):
-        q = [sp.sympify(c) for c in q]
+        q = [parse_law(c, f"q{i}") for i, c in enumerate(q)]
         qd = [sp.diff(c, T) for c in q]
         Q = sp.algebras.Quaternion
         w = 2 * Q(q[0], -q[1], -q[2], -q[3]) * Q(*qd)
@@ -41,17 +43,18 @@ class QuaternionLawMotion(BaseMotion):
         vel = [sp.diff(e, T) for e in pos]
         acc = [sp.diff(e, T) for e in vel]
         self.expressions.update(position=pos, velocity=vel, acceleration=acc)
-        self._f = {k: [_lambdify(e) for e in v] for k, v in self.expressions.items()}
+        self._f = {k: [lambdify(e) for e in v] for k, v in self.expressions.items()}
         self.duration = duration
         self.name = name
         tt = np.linspace(0, duration or 1.0, 17)
         n = np.linalg.norm(self._eval("quaternion", tt), axis=-1)
         if np.max(np.abs(n - 1)) > 1e-12:
-            raise ValueError("q must be a unit quaternion law")
+            raise ImunavError("q must be a unit quaternion law (|q| = 1 at every t)")
 
     def _eval(self, key, t) -> FloatArray:
-        t = np.asarray(t, dtype=float)
-        return np.stack([f(t) for f in self._f[key]], axis=-1)
+        t = as_float_array(t, "t")
+        return np.stack([evaluate(f, t, f"{key}[{i}] of {self.name}")
+                         for i, f in enumerate(self._f[key])], axis=-1)
 
     def attitude(self, t):
         return self._eval("quaternion", t)

@@ -6,6 +6,8 @@ never surfaces as a traceback from deep inside numpy.
 
 from __future__ import annotations
 
+import numbers
+
 import numpy as np
 import numpy.typing as npt
 
@@ -47,15 +49,43 @@ def as_float_array(x: npt.ArrayLike, name: str, *, last: int | None = None,
     return a
 
 
-def check_positive(value: float, name: str) -> float:
-    """Return ``value`` as float if it is finite and > 0, else raise ImunavError."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ImunavError(f"{name} must be a positive number, got {value!r}") from None
+def check_positive(value, name: str) -> float:
+    """Return ``value`` as float if it is a finite real number > 0, else raise ImunavError.
+
+    Only real numbers are accepted (not ``True``, not the string ``"10"``): files and the API
+    must say what they mean; the command line converts its strings before calling this.
+    """
+    if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
+        raise ImunavError(f"{name} must be a positive number, got {_show(value)}")
+    v = float(value)
     if not np.isfinite(v) or v <= 0:
-        raise ImunavError(f"{name} must be a positive finite number, got {value!r}")
+        raise ImunavError(f"{name} must be a positive finite number, got {_show(value)}")
     return v
+
+
+def check_gravity(g) -> float:
+    """Gravity magnitude (m/s²): a finite number > 0 (``g_n = [0, 0, +g]``)."""
+    return check_positive(g, "g")
+
+
+def check_int(value, name: str, minimum: int = 0) -> int:
+    """An integer ≥ ``minimum`` (``1.7``, ``True`` and ``"3"`` are refused; ``3.0`` is not an
+    integer either: counts and seeds are whole numbers)."""
+    if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Integral):
+        raise ImunavError(f"{name} must be an integer ≥ {minimum}, got {_show(value)}")
+    v = int(value)
+    if v < minimum:
+        raise ImunavError(f"{name} must be an integer ≥ {minimum}, got {v}")
+    return v
+
+
+def _show(value) -> str:
+    """A value for an error message: plain numbers, not ``np.float64(…)``."""
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float):
+        return f"{value:.6g}"
+    return repr(value)
 
 
 def check_time(t: npt.ArrayLike, name: str = "t") -> np.ndarray:
@@ -66,7 +96,7 @@ def check_time(t: npt.ArrayLike, name: str = "t") -> np.ndarray:
         if np.any(d <= 0):
             i = int(np.argmax(d <= 0))
             raise ImunavError(
-                f"{name} must be strictly increasing; {name}[{i + 1}] = {a[i + 1]!r} "
-                f"does not exceed {name}[{i}] = {a[i]!r}"
+                f"{name} must be strictly increasing; {name}[{i + 1}] = {_show(a[i + 1])} "
+                f"does not exceed {name}[{i}] = {_show(a[i])}"
             )
     return a

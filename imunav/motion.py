@@ -9,20 +9,20 @@ exact (SymPy ``diff``, then ``lambdify``), never finite differences.
 
 from __future__ import annotations
 
-import numbers
 from collections.abc import Mapping
 
 import numpy as np
 import numpy.typing as npt
 import sympy as sp
 
-from imunav.errors import ImunavError, as_float_array
+from imunav.errors import ImunavError, as_float_array, check_gravity, check_positive
+from imunav.laws import T, evaluate, lambdify, parse_law
 from imunav.rotations import FloatArray, _dcm, _rotate, euler_to_quat
 
 #: Standard gravity (m/s²), the default magnitude of ``g_n = [0, 0, +g]``.
 G0 = 9.80665
 
-T = sp.Symbol("t", real=True)
+__all__ = ["ATTITUDE_KEYS", "BaseMotion", "G0", "Motion", "POSITION_KEYS", "T", "parse_law"]
 
 POSITION_KEYS = ("x", "y", "z")
 ATTITUDE_KEYS = ("yaw", "pitch", "roll")
@@ -64,6 +64,7 @@ class BaseMotion:
     def specific_force(self, t: npt.ArrayLike, g: float = G0) -> FloatArray:
         """Specific force ``f_b = C_bn (a_n − g_n)`` (m/s²), ``g_n = [0, 0, +g]``."""
         t = _times(t)
+        g = check_gravity(g)
         a = self.acceleration(t)
         a = a - np.array([0.0, 0.0, g])
         q = self.attitude(t)
@@ -83,52 +84,6 @@ class BaseMotion:
 
 def _times(t: npt.ArrayLike) -> FloatArray:
     return as_float_array(t, "t")
-
-
-def parse_law(expr: str | sp.Expr | numbers.Real, name: str) -> sp.Expr:
-    """Parse one motion law into a SymPy expression in ``t``.
-
-    Accepts a number, a SymPy expression or a string such as ``"2*sin(t)"``; constants
-    such as ``pi`` and ``E`` are fine, any other free symbol is an error.
-    """
-    if isinstance(expr, sp.Expr):
-        e = expr
-    elif isinstance(expr, numbers.Real) and not isinstance(expr, bool):
-        e = sp.Float(expr) if not float(expr).is_integer() else sp.Integer(int(expr))
-    elif isinstance(expr, str):
-        if not expr.strip():
-            raise ImunavError(f"motion law {name!r} is an empty string")
-        try:
-            e = sp.parse_expr(expr, local_dict={"t": T}, evaluate=True)
-        except Exception as exc:  # SymPy raises many kinds (SyntaxError, TokenError, TypeError…)
-            raise ImunavError(f"motion law {name!r} = {expr!r} cannot be parsed: {exc}") from None
-        if not isinstance(e, sp.Expr):
-            raise ImunavError(f"motion law {name!r} = {expr!r} is not a scalar expression")
-    else:
-        raise ImunavError(
-            f"motion law {name!r} must be a string, number or SymPy expression, "
-            f"got {type(expr).__name__}"
-        )
-    # Accept a user's own Symbol("t") (without assumptions) as our t.
-    e = e.subs({s: T for s in e.free_symbols if s.name == "t"})
-    extra = sorted(s.name for s in e.free_symbols if s != T)
-    if extra:
-        raise ImunavError(
-            f"motion law {name!r} = {str(expr)!r} uses symbol(s) {', '.join(extra)}; "
-            "only 't' (time, s) is allowed"
-        )
-    if e.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
-        raise ImunavError(f"motion law {name!r} = {str(expr)!r} is not finite")
-    return e
-
-
-def _lambdify(expr: sp.Expr):
-    f = sp.lambdify(T, expr, modules="numpy", cse=True)
-
-    def call(t: FloatArray) -> FloatArray:
-        return np.broadcast_to(np.asarray(f(t), dtype=np.float64), np.shape(t)).copy()
-
-    return call
 
 
 class Motion(BaseMotion):
@@ -163,8 +118,6 @@ class Motion(BaseMotion):
         self.laws = {k: parse_law(v, k) for k, v in
                      zip(POSITION_KEYS + ATTITUDE_KEYS, (x, y, z, yaw, pitch, roll), strict=True)}
         if duration is not None:
-            from imunav.errors import check_positive
-
             duration = check_positive(duration, "duration")
         self.duration = duration
         self.name = name
@@ -179,10 +132,22 @@ class Motion(BaseMotion):
             dtheta * sp.cos(phi) + dpsi * sp.cos(theta) * sp.sin(phi),
             dpsi * sp.cos(theta) * sp.cos(phi) - dtheta * sp.sin(phi),
         ]
+        for key, exprs in (("velocity", vel), ("acceleration", acc), ("angular rate", omega)):
+            if any(e.has(sp.I) for e in exprs):
+                raise ImunavError(f"the {key} of this motion is complex-valued; laws must be real")
         #: SymPy expressions of every derived quantity (for inspection and notebooks).
         self.expressions = {"position": pos, "velocity": vel, "acceleration": acc,
                             "euler": [psi, theta, phi], "angular_rate": omega}
-        self._f = {k: [_lambdify(e) for e in v] for k, v in self.expressions.items()}
+        src = {k: repr(str(v)) for k, v in zip(POSITION_KEYS + ATTITUDE_KEYS,
+                                                 (x, y, z, yaw, pitch, roll), strict=True)}
+        what = {"position": [f"position law {k} = {src[k]}" for k in POSITION_KEYS],
+                "velocity": [f"velocity (d/dt of law {k} = {src[k]})" for k in POSITION_KEYS],
+                "acceleration": [f"acceleration (d²/dt² of law {k} = {src[k]})"
+                                 for k in POSITION_KEYS],
+                "euler": [f"attitude law {k} = {src[k]}" for k in ATTITUDE_KEYS],
+                "angular_rate": [f"angular rate ω_{c} (from the attitude laws)" for c in "xyz"]}
+        self._f = {k: [(lambdify(e), w) for e, w in zip(v, what[k], strict=True)]
+                   for k, v in self.expressions.items()}
 
     @classmethod
     def from_dict(cls, spec: Mapping, *, name: str = "motion") -> Motion:
@@ -213,7 +178,7 @@ class Motion(BaseMotion):
 
     def _eval(self, key: str, t: npt.ArrayLike) -> FloatArray:
         t = _times(t)
-        return np.stack([f(t) for f in self._f[key]], axis=-1)
+        return np.stack([evaluate(f, t, what) for f, what in self._f[key]], axis=-1)
 
     def position(self, t):
         return self._eval("position", t)
