@@ -6,7 +6,7 @@ inside the timed call for every implementation (the compiled loops included).
 
 - imunav navigation (attitude, velocity, position) of 1e6 increments, default algorithm
   (``poly8_m6``) and ``exact_exponential``, and the exact-exponential attitude alone;
-- the compiled baseline: :mod:`imunav.reference` (plain one-sample loops doing the same
+- the compiled baseline: imunav.strapdown.reference (plain one-sample loops doing the same
   arithmetic) JIT-compiled with numba;
 - ahrs ``AngularRate`` (closed form, the same q ⊗ exp(ω Δt) update) on 1e5 rate samples,
   scaled to 1e6;
@@ -35,13 +35,12 @@ from pathlib import Path
 import numpy as np
 
 import imunav
-from imunav import reference
-from imunav.benchmarks import spinning_cone
-from imunav.highorder import _GQ_W, _GQ_X, reference_tables
-from imunav.montecarlo import monte_carlo
+from imunav.analysis.montecarlo import monte_carlo
+from imunav.motion.catalog import spinning_cone
 from imunav.sensors import ImuModel
-from imunav.simulate import simulate_imu
-from imunav.strapdown import exp_product, navigate
+from imunav.sensors.simulate import simulate_imu
+from imunav.strapdown import exp_product, navigate, reference
+from imunav.strapdown.highorder import _GQ_W, _GQ_X, reference_tables
 
 HERE = Path(__file__).resolve().parent
 

@@ -23,11 +23,27 @@ Units
     SI and radians in the API; degrees and g only at the edges (plots, CSV loaders).
     Where a paper uses another convention, the module ``imunav.papers.<paper>`` converts
     at its boundary.
+
+
+Layers
+------
+``core`` (constants, units, checks, rotations, states) → ``motion`` → ``sensors`` (signals,
+simulation, error models) → ``strapdown`` (scan, algorithms, registry) → ``analysis``
+(metrics, round trips, Monte Carlo, verdict) → ``io`` (files, real recordings) → ``papers`` →
+faces (``cli``, ``reproduce``, ``plotting``). A module imports only from its own layer or
+below (``tests/test_layering.py``).
+
+May import: anything in imunav (this is the package's facade: it exports what the README uses).
 """
 
-from imunav.errors import ImunavError
-from imunav.motion import BaseMotion, Motion
-from imunav.rotations import (
+from imunav import _aliases
+from imunav.analysis.assessment import assess, format_verdict
+from imunav.analysis.family import run_family
+from imunav.analysis.metrics import NavErrors, nav_errors
+from imunav.analysis.montecarlo import monte_carlo
+from imunav.analysis.roundtrip import round_trip
+from imunav.core.constants import G0
+from imunav.core.rotations import (
     euler_to_quat,
     from_scipy,
     quat_angle,
@@ -42,21 +58,36 @@ from imunav.rotations import (
     quat_to_euler,
     to_scipy,
 )
-from imunav.simulate import G0, ImuSignals, simulate_imu, truth_states
-from imunav.strapdown import ALGORITHMS, NavResult, navigate
+from imunav.core.states import States
+from imunav.core.validation import ImunavError
+from imunav.io.realdata import read_generic, read_ximu, read_ximu3
+from imunav.motion import BaseMotion, Motion
+from imunav.sensors import PRESETS, ImuModel, ImuSignals, simulate_imu, truth_states
+from imunav.strapdown import ALGORITHMS, DEFAULT_ALGORITHM, NavResult, navigate
 
-__version__ = "0.1.0"
+_aliases.install()
+
+__version__ = "0.2.0"
 
 __all__ = [
     "ALGORITHMS",
     "BaseMotion",
+    "DEFAULT_ALGORITHM",
     "G0",
+    "ImuModel",
     "ImuSignals",
     "ImunavError",
     "Motion",
+    "NavErrors",
     "NavResult",
+    "PRESETS",
+    "States",
+    "assess",
     "euler_to_quat",
+    "format_verdict",
     "from_scipy",
+    "monte_carlo",
+    "nav_errors",
     "navigate",
     "quat_angle",
     "quat_conj",
@@ -68,6 +99,11 @@ __all__ = [
     "quat_rotate",
     "quat_to_dcm",
     "quat_to_euler",
+    "read_generic",
+    "read_ximu",
+    "read_ximu3",
+    "round_trip",
+    "run_family",
     "simulate_imu",
     "to_scipy",
     "truth_states",

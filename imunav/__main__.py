@@ -1,3 +1,8 @@
+"""``python -m imunav``: the command line.
+
+May import: ``imunav.cli``.
+"""
+
 import sys
 
 from imunav.cli import main

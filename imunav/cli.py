@@ -1,6 +1,8 @@
 """Command line: ``imunav simulate | navigate | reproduce`` (also ``python -m imunav``).
 
 User errors exit with status 2 and a single line ``imunav: error: …`` (no traceback).
+
+May import: anything in imunav (a face of the package).
 """
 
 from __future__ import annotations
@@ -11,7 +13,24 @@ from pathlib import Path
 
 import numpy as np
 
-from imunav.errors import ImunavError, check_positive
+from imunav.analysis.assessment import assess, format_verdict
+from imunav.core.constants import G0
+from imunav.core.validation import ImunavError, check_positive
+from imunav.io import realdata
+from imunav.io.files import (
+    load_motion_toml,
+    read_signals,
+    read_states,
+    write_json,
+    write_signals,
+    write_states,
+)
+from imunav.reproduce import format_table, reproduce_all
+from imunav.sensors.models import ImuModel, measure
+from imunav.sensors.signals import ImuSignals
+from imunav.sensors.simulate import simulate_imu, truth_states
+from imunav.strapdown.alignment import level_attitude
+from imunav.strapdown.registry import ALGORITHMS, navigate
 
 
 class _Parser(argparse.ArgumentParser):
@@ -30,8 +49,6 @@ def _positive(name):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from imunav.strapdown import ALGORITHMS
-
     p = _Parser(prog="imunav", description=__doc__.splitlines()[0])
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
@@ -95,17 +112,11 @@ def _same_file(a: str, b: str) -> bool:
 
 
 def cmd_simulate(args) -> int:
-    from imunav.io import load_motion_toml, write_signals, write_states
-    from imunav.motion import G0
-    from imunav.simulate import simulate_imu, truth_states
-
     if _same_file(args.out, args.motion) or (args.truth and _same_file(args.truth, args.motion)):
         raise ImunavError("output file would overwrite the motion file")
     motion, duration, g_file = load_motion_toml(args.motion)
     g = args.g if args.g is not None else (g_file if g_file is not None else G0)
     if args.imu:
-        from imunav.sensors import ImuModel
-
         model = ImuModel.load(args.imu)
         sig = _simulate_with_errors(motion, model, args.rate, duration, args.output, g, args.seed)
     else:
@@ -113,17 +124,13 @@ def cmd_simulate(args) -> int:
     write_signals(args.out, sig)
     if args.truth:
         t = np.arange(int(round(duration * args.rate)) + 1) / args.rate
-        tr = truth_states(motion, t)
-        write_states(args.truth, tr.t, tr.position, tr.velocity, tr.quaternion)
+        write_states(args.truth, truth_states(motion, t))
     print(f"wrote {len(sig)} {sig.kind} rows at {args.rate:g} Hz to {args.out}")
     return 0
 
 
 def _simulate_with_errors(motion, model, rate, duration, output, g, seed):
-    from imunav.sensors import measure
-    from imunav.simulate import ImuSignals, simulate_imu
-
-    k = max(1, int(round((model.internal_rate or rate) / rate)))
+    k = model.decimation(rate)
     sim = simulate_imu(motion, rate * k, duration, output=output, g=g)
     rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0])
     gm, am, flags = measure(model, sim.gyro, sim.accel, output, rate * k, rng, k)
@@ -134,10 +141,6 @@ def _simulate_with_errors(motion, model, rate, duration, output, g, seed):
 
 
 def cmd_assess(args) -> int:
-    from imunav.io import load_motion_toml
-    from imunav.montecarlo import assess, format_verdict, write_json
-    from imunav.sensors import ImuModel
-
     if args.runs < 1:
         raise ImunavError(f"--runs must be a positive integer, got {args.runs}")
     motion, duration, g_file = load_motion_toml(args.motion)
@@ -151,9 +154,6 @@ def cmd_assess(args) -> int:
 
 
 def cmd_navigate(args) -> int:
-    from imunav.io import read_signals, read_states, write_states
-    from imunav.strapdown import ALGORITHMS, navigate
-
     for other in (args.signals, args.initial):
         if other and _same_file(args.out, other):
             raise ImunavError(f"--out {args.out} would overwrite an input file")
@@ -164,12 +164,11 @@ def cmd_navigate(args) -> int:
     else:
         sig = _read_recording(args)
     if args.initial:
-        init = read_states(args.initial)
+        st = read_states(args.initial)
+        init = {"quaternion": st.quaternion, "velocity": st.velocity, "position": st.position}
     else:
-        from imunav.papers.dickson_rae2021 import initial_attitude_from_accel
-
         n = max(1, int(args.rest_window * sig.rate))
-        init = {"quaternion": [initial_attitude_from_accel(sig.accel[:n], sig.g, tol=0.1)],
+        init = {"quaternion": [level_attitude(sig.accel[:n], sig.g, tol=0.1)],
                 "velocity": [np.zeros(3)], "position": [np.zeros(3)]}
     if args.algorithm and args.algorithm not in ALGORITHMS[sig.kind]:
         raise ImunavError(
@@ -178,16 +177,12 @@ def cmd_navigate(args) -> int:
         )
     res = navigate(sig, init["quaternion"][0], init["velocity"][0], init["position"][0],
                    algorithm=args.algorithm)
-    write_states(args.out, res.t, res.position, res.velocity, res.quaternion)
+    write_states(args.out, res)
     print(f"wrote {len(res.t)} navigation rows ({res.algorithm}) to {args.out}")
     return 0
 
 
 def _read_recording(args):
-    from pathlib import Path
-
-    from imunav import realdata
-
     path = Path(args.signals)
     if args.format in ("ximu3", "ximu"):
         folder = path if path.is_dir() else path.parent
@@ -207,8 +202,6 @@ def _read_recording(args):
 
 
 def cmd_reproduce(args) -> int:
-    from imunav.reproduce import format_table, reproduce_all
-
     records = reproduce_all(args.out)
     print(format_table(records))
     return 0

@@ -1,8 +1,9 @@
 """``imunav reproduce``: every reproduction figure and ``reproduction.json``.
 
 Each reproduction is a function ``(out_dir: Path) → list[record]`` registered in
-:data:`REPRODUCTIONS`; a record is ``{"id", "quantity", "paper", "imunav", "unit", "note"}``
-with ``paper`` None (JSON null) where the paper gives no number.
+:data:`REPRODUCTIONS` (records: :mod:`imunav.papers.records`).
+
+May import: anything in imunav (a face of the package).
 """
 
 from __future__ import annotations
@@ -11,14 +12,10 @@ import json
 from collections.abc import Callable
 from pathlib import Path
 
-
-def record(id: str, quantity: str, paper, imunav, unit: str, note: str = "") -> dict:
-    """One reproduction record (numbers as plain floats)."""
-    def num(x):
-        return None if x is None else float(x)
-
-    return {"id": id, "quantity": quantity, "paper": num(paper), "imunav": num(imunav),
-            "unit": unit, "note": note}
+from imunav import plotting
+from imunav.analysis.roundtrip import error_table, round_trip
+from imunav.papers import dickson_rae2021, marusenkova2020, plaksiy, tutorial
+from imunav.papers.records import record
 
 
 def _quickstart(out: Path) -> list[dict]:
@@ -27,11 +24,9 @@ def _quickstart(out: Path) -> list[dict]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from imunav import quickstart as qs
-
     recs = []
-    res = qs.run(rate=100.0, output="increments")
-    fig = qs.plot_run(res)
+    res = round_trip(rate=100.0, output="increments")
+    fig = plotting.plot_run(res)
     fig.savefig(out / "quickstart_round_trip.png", dpi=110)
     plt.close(fig)
     s = res.errors.summary()
@@ -41,8 +36,8 @@ def _quickstart(out: Path) -> list[dict]:
     recs.append(record("quickstart.increments_100hz.max_attitude_error", "max attitude error, "
                        f"ideal increments at 100 Hz, {res.nav.algorithm}", None,
                        s["max_attitude"], "rad", "quickstart motion, 20 s"))
-    rows = qs.error_table()
-    fig = qs.plot_error_vs_rate(rows)
+    rows = error_table()
+    fig = plotting.plot_error_vs_rate(rows)
     fig.savefig(out / "quickstart_error_vs_rate.png", dpi=110)
     plt.close(fig)
     for row in rows:
@@ -55,37 +50,13 @@ def _quickstart(out: Path) -> list[dict]:
     return recs
 
 
-#: name → reproduction function; paper modules add theirs here.
-def _plaksiy(out: Path) -> list[dict]:
-    from imunav.papers import plaksiy
-
-    return plaksiy.reproduce(out)
-
-
-def _marusenkova(out: Path) -> list[dict]:
-    from imunav.papers import marusenkova2020
-
-    return marusenkova2020.reproduce(out)
-
-
-def _tutorial(out: Path) -> list[dict]:
-    from imunav.papers import tutorial
-
-    return tutorial.reproduce(out)
-
-
-def _dickson_rae(out: Path) -> list[dict]:
-    from imunav.papers import dickson_rae2021
-
-    return dickson_rae2021.reproduce(out)
-
-
+#: name → reproduction function.
 REPRODUCTIONS: dict[str, Callable[[Path], list[dict]]] = {
     "quickstart": _quickstart,
-    "marusenkova2020": _marusenkova,
-    "plaksiy": _plaksiy,
-    "tutorial": _tutorial,
-    "dickson_rae2021": _dickson_rae,
+    "marusenkova2020": marusenkova2020.reproduce,
+    "plaksiy": plaksiy.reproduce,
+    "tutorial": tutorial.reproduce,
+    "dickson_rae2021": dickson_rae2021.reproduce,
 }
 
 

@@ -53,11 +53,11 @@ def test_simulate_navigate_round_trip(tmp_path, motion_file, output, header, row
     assert main(["navigate", str(sig), "--initial", str(truth), "--out", str(nav)]) == 0
     assert _digest(sig) == sig_digest and _digest(motion_file) == before
     st = read_states(nav)
-    assert st["t"].size == 201 and st["t"][0] == 0.0
+    assert st.t.size == 201 and st.t[0] == 0.0
     m = Motion(x="t**2", y="t*sin(t)**2", z="2*t", yaw="0.3*sin(t)", pitch="0.2*sin(0.5*t)",
                roll="0.1*t")
     # against the analytic truth, not the truth file
-    assert np.abs(st["position"] - m.position(st["t"])).max() < 5e-3
+    assert np.abs(st.position - m.position(st.t)).max() < 5e-3
 
 
 def test_csv_keeps_full_double_precision(tmp_path, motion_file):

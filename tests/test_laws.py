@@ -7,7 +7,7 @@ import pytest
 import sympy as sp
 
 from imunav import ImunavError, Motion
-from imunav.laws import FUNCTIONS, MAX_CHARS, T, parse_law
+from imunav.motion.laws import FUNCTIONS, MAX_CHARS, T, parse_law
 
 
 def test_injection_never_runs(tmp_path):

@@ -10,7 +10,7 @@ from imunav.symbolic import marusenkova as S
 
 def test_eq5_is_transpose_of_imunav_dcm(rng):
     assert S.eq5_is_transpose_of_zyx()
-    from imunav.rotations import euler_to_quat, quat_to_dcm
+    from imunav.core.rotations import euler_to_quat, quat_to_dcm
 
     ypr = rng.uniform(-1, 1, (20, 3))
     np.testing.assert_allclose(M.eq5(ypr), np.swapaxes(quat_to_dcm(euler_to_quat(ypr)), 1, 2),

@@ -12,7 +12,7 @@ from scipy.integrate import quad
 from scipy.spatial.transform import Rotation
 
 from imunav import G0, ImunavError, Motion, simulate_imu
-from imunav.simulate import sample_times
+from imunav.sensors.simulate import sample_times
 
 LAWS = dict(x="t**2", y="t*sin(t)**2", z="2*t", yaw="0.5*sin(0.7*t) + 0.2*t",
             pitch="0.3*sin(1.1*t)", roll="0.4*cos(0.9*t) + 0.1*t")

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from imunav import ImunavError
-from imunav import realdata as R
 from imunav.cli import main
+from imunav.io import realdata as R
 
 
 def test_ximu3_reader_units_and_rate():
@@ -49,7 +49,7 @@ def test_generic_reader_matches_ximu3():
 @pytest.mark.parametrize("kw, msg", [
     (dict(gyro_units="furlong/s"), "unknown gyro units"),
     (dict(accel_units="gee"), "unknown accel units"),
-    (dict(time_units="min"), "unknown time units"),
+    (dict(time_units="fortnight"), "unknown time units"),
     (dict(gyro_columns=["a", "b", "c"]), "no column 'a'"),
 ])
 def test_generic_reader_errors(kw, msg):

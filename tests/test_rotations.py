@@ -10,7 +10,7 @@ from hypothesis.extra.numpy import arrays
 from scipy.spatial.transform import Rotation
 
 from imunav import ImunavError
-from imunav.rotations import (
+from imunav.core.rotations import (
     GimbalLockWarning,
     euler_to_quat,
     from_scipy,

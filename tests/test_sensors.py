@@ -6,19 +6,20 @@ import numpy as np
 import pytest
 
 from imunav import ImunavError, Motion
-from imunav.montecarlo import assess, monte_carlo
-from imunav.presets import PRESETS
-from imunav.sensors import (
+from imunav.analysis.assessment import assess
+from imunav.analysis.montecarlo import monte_carlo
+from imunav.core.units import parse
+from imunav.sensors.allan import allan_deviation
+from imunav.sensors.allan import gauss_markov_allan_variance as _gm_allan_var
+from imunav.sensors.models import (
     ImuModel,
     TriadModel,
     _flicker_bank,
-    _gm_allan_var,
-    allan_deviation,
     apply_triad,
     bias_instability_sigma,
     measure,
 )
-from imunav.units import parse
+from imunav.sensors.presets import PRESETS
 
 
 @pytest.mark.parametrize("value, key, si", [

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from imunav import ImunavError, Motion, navigate, simulate_imu
-from imunav.assess import fit_order, nav_errors
+from imunav.analysis.metrics import fit_order, nav_errors
 from imunav.strapdown import ALGORITHMS, DEFAULT_ALGORITHM
 
 # Moves along and turns about all three axes; 10 s.
@@ -62,7 +62,7 @@ def test_every_algorithm_has_a_threshold():
 def _order_case(kind, name):
     """Benchmark and rates where the algorithm's truncation error is asymptotic and far above
     rounding (sixth-order methods reach 1e-15 rad on MOTION at 50 Hz)."""
-    from imunav.benchmarks import spinning_cone
+    from imunav.motion.catalog import spinning_cone
 
     if ALGORITHMS[kind][name].order[0] < 6:
         return MOTION, [50.0, 100.0, 200.0]
@@ -119,8 +119,8 @@ def test_inputs_not_mutated():
 def test_coning_case_default_beats_target():
     """Issue target: ≤ 1.3e-6° maximum attitude error on classical coning (5°, 2 Hz, 100 Hz
     increments, 60 s), checked against the closed-form attitude."""
-    from imunav.benchmarks import coning
-    from imunav.rotations import quat_angle
+    from imunav.core.rotations import quat_angle
+    from imunav.motion.catalog import coning
 
     m = coning()
     sig = simulate_imu(m, 100.0, output="increments")
@@ -136,7 +136,7 @@ def test_coning_case_default_beats_target():
 
 
 def test_coning_closed_form_rate():
-    from imunav.benchmarks import coning
+    from imunav.motion.catalog import coning
 
     m = coning(5.0, 2.0)
     b, W = np.radians(5.0), 4 * np.pi
@@ -149,7 +149,7 @@ def test_coning_closed_form_rate():
 def test_sculling_correction_against_truth():
     """On the sculling benchmark the two-sample sculling term removes the rectified velocity
     error that the uncorrected update accumulates (truth: the analytic velocity)."""
-    from imunav.benchmarks import sculling
+    from imunav.motion.catalog import sculling
 
     m = sculling(1.0, 1.0, 2.0, duration=30.0)
     errs = {}
@@ -167,3 +167,25 @@ def test_multisample_partial_group():
     for name in ("miller3", "ignagni4"):
         nav, e = _run("increments", name, 100.0, m)
         assert nav.t.size == 1002 and e.attitude.max() < 1e-6
+
+
+@pytest.mark.parametrize("kind, name", sorted(THRESHOLDS))
+def test_batched_runs_equal_single_runs(kind, name, rng):
+    """Monte Carlo navigates R runs at once through the registry: each run must be what
+    navigating it alone gives (to rounding; different runs, initial states and signals)."""
+    from imunav import ImuSignals
+    from imunav.strapdown import navigate_batch
+
+    sig = simulate_imu(MOTION, 50.0, 2.02, output=kind)   # 101 increments: partial groups too
+    R = 3
+    G = sig.gyro[:, None] + 1e-3 * rng.normal(size=(1, R, 3))
+    A = sig.accel[:, None] + 1e-2 * rng.normal(size=(1, R, 3))
+    q0 = MOTION.attitude([0.0])[0] + 0.01 * rng.normal(size=(R, 4))
+    v0, p0 = rng.normal(size=(R, 3)), rng.normal(size=(R, 3))
+    q, v, p = navigate_batch(kind, G, A, sig.rate, q0, v0, p0, algorithm=name)
+    for r in range(R):
+        one = navigate(ImuSignals(sig.t, G[:, r], A[:, r], kind, sig.rate), q0[r], v0[r], p0[r],
+                       algorithm=name)
+        np.testing.assert_allclose(q[:, r], one.quaternion, rtol=0, atol=1e-15)
+        np.testing.assert_allclose(v[:, r], one.velocity, rtol=0, atol=1e-13)
+        np.testing.assert_allclose(p[:, r], one.position, rtol=0, atol=1e-13)

@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 
 from imunav import ImunavError, euler_to_quat, quat_to_euler
+from imunav.core.rotations import quat_angle, quat_exp, quat_mul
 from imunav.papers import dickson_rae2021 as D
 from imunav.papers import tutorial as T
-from imunav.rotations import quat_angle, quat_exp, quat_mul
 
 
 def test_quatern2rotMat_is_madgwicks_formula(rng):
@@ -58,7 +58,7 @@ def test_fixed_frame_update_equals_body_frame_update(rng):
 
 def test_initial_attitude_from_accel_and_check():
     q = euler_to_quat([0.0, np.radians(-10.5), np.radians(4.0)])
-    from imunav.rotations import quat_rotate
+    from imunav.core.rotations import quat_rotate
 
     f = quat_rotate(q * [1, -1, -1, -1], [0, 0, -9.80665])
     assert quat_angle(D.initial_attitude_from_accel(f), q) < 1e-14

@@ -23,6 +23,8 @@ The processing chain (library functions below, in the paper's order):
    accelerometer baseline shifts to a constant; the residual measured at rest at the end,
    corrected for the final orientation, is subtracted from all data after the onset; the
    residual velocity is the check.
+
+May import: anything below the papers (``imunav.core`` … ``imunav.io``), ``imunav.symbolic``.
 """
 
 from __future__ import annotations
@@ -33,9 +35,15 @@ import numpy as np
 import numpy.typing as npt
 import sympy as sp
 
-from imunav.errors import ImunavError, as_float_array, check_positive
-from imunav.motion import G0, Motion, T
-from imunav.rotations import FloatArray, _angle, _exp, _mul, _rotate, euler_to_quat
+from imunav.core.constants import DEG, G0
+from imunav.core.rotations import FloatArray, _angle, _exp, _mul, _rotate, quat_to_euler
+from imunav.core.validation import ImunavError, as_float_array, check_positive
+from imunav.motion.analytic import Motion
+from imunav.motion.laws import T
+from imunav.papers.records import record
+from imunav.sensors.simulate import simulate_imu
+from imunav.strapdown.alignment import gravity_reading, level_attitude, remove_static_biases
+from imunav.strapdown.scan import cumulative_product
 
 # ----------------------------------------------------------------- the paper's equations
 
@@ -63,30 +71,18 @@ def quat_to_tait_bryan(q: npt.ArrayLike) -> FloatArray:
 
 def initial_attitude_from_accel(accel: npt.ArrayLike, g: float = G0, tol: float = 0.05,
                                 yaw: float = 0.0) -> FloatArray:
-    """q_nb from the mean resting specific force (m/s²): roll and pitch from gravity, yaw given.
-
-    Level at rest the accelerometer reads [0, 0, −g], so θ = atan2(f_x, √(f_y² + f_z²)) and
-    φ = atan2(−f_y, −f_z). Raises if |f| differs from g by more than ``tol`` (relative): the
-    paper's necessary condition for the accelerometers to be trusted at rest.
-    """
-    f = as_float_array(accel, "accel", last=3)
-    f = f.reshape(-1, 3).mean(axis=0)
-    n = float(np.linalg.norm(f))
-    if abs(n - g) > tol * g:
-        raise ImunavError(f"accel at rest has |a| = {n:.4g} m/s², not ≈ g = {g:.4g} "
-                          f"(tolerance {tol:.0%}): cannot take the initial orientation from it")
-    theta = np.arctan2(f[0], np.hypot(f[1], f[2]))
-    phi = np.arctan2(-f[1], -f[2])
-    return euler_to_quat([yaw, theta, phi])
+    """q_nb from the mean resting specific force: roll and pitch from gravity, yaw given, with the
+    paper's necessary condition √(a_X² + a_Y² + a_Z²) ≈ g (within ``tol``). The general
+    levelling of :func:`imunav.strapdown.alignment.level_attitude`."""
+    return level_attitude(accel, g, tol, yaw)
 
 
 def zero_biases(gyro: FloatArray, accel: FloatArray, window: slice, q0: FloatArray,
                 g: float = G0) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    """Assumption A: subtract pre-event offsets. Returns (gyro, accel, gyro_bias, accel_bias)."""
-    bg = gyro[window].mean(axis=0)
-    expected = _rotate(q0 * [1, -1, -1, -1], np.array([0.0, 0.0, -g]))  # C_bn (−g_n)
-    ba = accel[window].mean(axis=0) - expected
-    return gyro - bg, accel - ba, bg, ba
+    """Assumption A: subtract pre-event offsets (gyro: mean; accelerometer: mean minus the
+    gravity reading of the initial orientation). Returns (gyro, accel, gyro_bias, accel_bias);
+    :func:`imunav.strapdown.alignment.remove_static_biases`."""
+    return remove_static_biases(gyro, accel, window, q0, g)
 
 
 def integrate_fixed_frame(gyro: FloatArray, dt: float, q0: FloatArray) -> FloatArray:
@@ -102,8 +98,6 @@ def integrate_fixed_frame(gyro: FloatArray, dt: float, q0: FloatArray) -> FloatA
 
 def integrate_body_frame(gyro: FloatArray, dt: float, q0: FloatArray) -> FloatArray:
     """The equivalent body-frame update q ⊗ exp(ω_b Δt), vectorised."""
-    from imunav.strapdown import cumulative_product
-
     return cumulative_product(q0, _exp(gyro * dt))
 
 
@@ -141,7 +135,7 @@ def baseline_shift_correction(accel: FloatArray, q: FloatArray, onset: int, rest
     """Assumption B: the residual offset at rest at the end, corrected for the final
     orientation relative to gravity, is subtracted from every sample after ``onset``.
     Returns (corrected accel, residual offset)."""
-    expected = _rotate(q[rest] * [1, -1, -1, -1], np.array([0.0, 0.0, -g])).mean(axis=0)
+    expected = gravity_reading(q[rest], g).mean(axis=0)
     shift = accel[rest].mean(axis=0) - expected
     out = accel.copy()
     out[onset:] -= shift
@@ -149,8 +143,6 @@ def baseline_shift_correction(accel: FloatArray, q: FloatArray, onset: int, rest
 
 
 # ------------------------------------------------------------------- the synthetic event
-
-DEG = np.pi / 180
 
 
 def blast_motion(t0: float = 0.1, duration: float = 2.6) -> Motion:
@@ -204,8 +196,6 @@ def record_blast(motion: Motion | None = None, rate: float = 100_000.0, seed: in
     the impulse on → clipping at the ranges. All randomness from ``seed``.
     """
     from scipy.signal import butter, sosfiltfilt
-
-    from imunav.simulate import simulate_imu
 
     motion = motion or blast_motion()
     rate = check_positive(rate, "rate")
@@ -319,8 +309,6 @@ def plot_angles(rec: BlastRecording, res: BlastResult, ax=None):
     """Fig. 3 analogue: roll, pitch, yaw (deg) vs time, processed and true."""
     import matplotlib.pyplot as plt
 
-    from imunav.rotations import quat_to_euler
-
     ax = ax or plt.figure(figsize=(9, 4)).add_subplot()
     s = slice(None, None, 50)
     e = np.degrees(quat_to_euler(res.q[s]))
@@ -378,8 +366,6 @@ def reproduce(out) -> list[dict]:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-
-    from imunav.reproduce import record
 
     rec = record_blast()
     res = process(rec)

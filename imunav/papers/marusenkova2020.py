@@ -17,6 +17,8 @@ The paper's conventions, kept inside this module:
 Schemes: Part A gyro ``"dcm"`` (17)–(18), ``"quat"`` (19)–(20), ``"quat_amended"`` (34);
 Part A accelerometer (21) for DCM, (22) for quaternions. Part B attitude ``"dcm"``
 (23)–(24), ``"quat"`` (25)–(26), ``"quat_amended"`` (35)–(36); accelerations (27) / (28).
+
+May import: anything below the papers (``imunav.core`` … ``imunav.io``), ``imunav.symbolic``.
 """
 
 from __future__ import annotations
@@ -25,9 +27,24 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from imunav.errors import ImunavError, check_positive
-from imunav.motion import G0, Motion
-from imunav.rotations import FloatArray, _dcm, _exp, _mul, euler_to_quat, quat_angle
+from imunav.analysis.metrics import nav_errors
+from imunav.core.constants import G0
+from imunav.core.rotations import (
+    FloatArray,
+    _dcm,
+    _exp,
+    _mul,
+    euler_to_quat,
+    quat_angle,
+    quat_from_dcm,
+)
+from imunav.core.validation import ImunavError, check_positive
+from imunav.motion.analytic import Motion
+from imunav.papers.records import record
+from imunav.sensors.simulate import simulate_imu
+from imunav.strapdown.registry import navigate
+from imunav.strapdown.scan import cumulative_product, prefix_product
+from imunav.symbolic import marusenkova as S
 
 SCHEMES = ("dcm", "quat", "quat_amended")
 CONJ = np.array([1.0, -1.0, -1.0, -1.0])
@@ -114,8 +131,6 @@ def part_b(sig: PartA, scheme: str = "dcm") -> FloatArray:
     """Restore positions X_0..X_{K−2} from Part A's signals and initial conditions."""
     if scheme not in SCHEMES:
         raise ImunavError(f"scheme must be one of {SCHEMES}, got {scheme!r}")
-    from imunav.strapdown import cumulative_product, prefix_product
-
     dt, g = sig.dt, sig.g
     n = sig.Ab.shape[0]
     Gv = sig.G[:n]
@@ -208,10 +223,6 @@ def restore_physical(motion: Motion, rate: float, duration: float, kind: str, sc
     q ← q ⊗ exp(ω dt) (eq. (36)); with the paper's rectangle integration (2), (3). Or any
     imunav algorithm name (``"imunav:<name>"``).
     """
-    from imunav.assess import nav_errors
-    from imunav.simulate import simulate_imu
-    from imunav.strapdown import navigate
-
     sig = simulate_imu(motion, rate, duration, output=kind)
     t0 = 0.0
     q0, v0, p0 = (motion.attitude([t0])[0], motion.velocity([t0])[0], motion.position([t0])[0])
@@ -235,8 +246,6 @@ def restore_physical(motion: Motion, rate: float, duration: float, kind: str, sc
             Cs[k + 1] = Cs[k] + Cs[k] @ np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
         rot = np.einsum("kij,kj->ki", Cs[:-1], f)
         U, _, Vt = np.linalg.svd(Cs)          # nearest rotation, to measure the attitude error
-        from imunav.rotations import quat_from_dcm
-
         qs = quat_from_dcm(U @ Vt)
     else:
         if scheme == "quat":
@@ -288,9 +297,6 @@ def reproduce(out) -> list[dict]:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-
-    from imunav.reproduce import record
-    from imunav.symbolic import marusenkova as S
 
     recs = []
     ex = S.omega33_example()

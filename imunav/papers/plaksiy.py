@@ -3,8 +3,11 @@
 Conventions at the boundary: the paper's quaternion Λ (``∘`` = Hamilton product, λ₀ scalar)
 and its angular velocity ω = 2 Λ̃ ∘ Λ̇ (eq. (4)) are exactly imunav's ``q_nb`` and body rate
 ``ω_b``; the paper's "quasi-coordinates" θ*ₙ (eq. (1)) are imunav's gyro increments Δθ.
-Eq. (3) as printed has a typo in λ₂ (see :mod:`imunav.symbolic.plaksiy`); the model uses the
-corrected, verified product ``Λ = q₃(φ) ∘ q₂(ψ) ∘ q₁(ϑ) ∘ q₂(χ)``.
+Eq. (3) as printed has a typo in λ₂ (see :mod:`imunav.symbolic.plaksiy`); the model
+(:class:`~imunav.motion.quaternion_law.FourRotationMotion`, general and so in the motion layer)
+uses the corrected, verified product ``Λ = q₃(φ) ∘ q₂(ψ) ∘ q₁(ϑ) ∘ q₂(χ)``.
+
+May import: anything below the papers (``imunav.core`` … ``imunav.io``), ``imunav.symbolic``.
 """
 
 from __future__ import annotations
@@ -13,16 +16,17 @@ from dataclasses import dataclass
 
 import numpy as np
 import numpy.typing as npt
-import sympy as sp
 
-from imunav.errors import ImunavError, as_float_array, check_positive
-from imunav.motion import BaseMotion, T, parse_law
-from imunav.rotations import FloatArray, _angle, _exp, _mul
-from imunav.simulate import integrate_intervals
-from imunav.strapdown import cumulative_product
-
-#: Fig. 1–3 frequencies (rad/s): φ = k₁t, ψ = k₂t, ϑ = k₃t, χ = k₄t (χ = −ψ).
-PAPER_K = (0.15, 1.55, 0.35, -1.55)
+from imunav.analysis.metrics import fit_order
+from imunav.core.rotations import FloatArray, _angle, _exp
+from imunav.core.validation import ImunavError, as_float_array, check_positive
+from imunav.motion.base import BaseMotion
+from imunav.motion.quaternion_law import PAPER_K as PAPER_K  # the paper's Fig. 1–3 frequencies
+from imunav.motion.quaternion_law import FourRotationMotion
+from imunav.papers.records import record
+from imunav.sensors.simulate import integrate_intervals
+from imunav.strapdown.scan import cumulative_product
+from imunav.symbolic import plaksiy as S
 
 #: Table 1: (α, β) → final drift (rad) at t = 1000 s, Δt = 0.1 s.
 TABLE1 = {
@@ -34,94 +38,18 @@ TABLE1 = {
 UPDATE_FORMS = ("exact", "series4")
 
 
-def _axis(a: FloatArray, i: int) -> FloatArray:
-    q = np.zeros(np.shape(a) + (4,))
-    q[..., 0] = np.cos(a / 2)
-    q[..., i] = np.sin(a / 2)
-    return q
+def quasi_coordinates(motion: BaseMotion, edges: npt.ArrayLike) -> FloatArray:
+    """θ*ₙ = ∫ ω dt over each ``[edges[n−1], edges[n]]`` (eqs. (1), (7)); shape (N, 3): the
+    paper's quasi-coordinates are imunav's gyro increments, integrated to 1e-13 relative
+    (checked against 30-digit mpmath quadrature in the tests)."""
+    e = as_float_array(edges, "edges", ndim=1)
+    return integrate_intervals(motion.angular_rate, e[:-1], e[1:])
 
 
-class FourRotationMotion(BaseMotion):
-    """Rigid-body rotation by four simultaneous turns; the body stays at the origin.
-
-    Parameters
-    ----------
-    phi, psi, vartheta, chi : str, number or sympy.Expr, optional
-        Angle laws (rad) in ``t``. Defaults: linear laws ``k₁t, k₂t, k₃t, k₄t``.
-    k : 4 floats
-        Frequencies for the default linear laws (the paper's Fig. 1–3 values by default).
-    duration : float
-        Default duration (s).
-
-    Notes
-    -----
-    Orientation: corrected eq. (3), ``Λ = q₃(φ) ∘ q₂(ψ) ∘ q₁(ϑ) ∘ q₂(χ)``.
-    Angular velocity: eq. (5), verified symbolically to equal ``2 Λ̃ ∘ Λ̇``::
-
-        ω₁ = −sin χ (φ̇ cos ψ cos ϑ − ψ̇ sin ϑ) + cos χ (ϑ̇ − φ̇ sin ψ)
-        ω₂ = χ̇ + φ̇ sin ϑ cos ψ + ψ̇ cos ϑ
-        ω₃ =  sin χ (ϑ̇ − φ̇ sin ψ) + cos χ (φ̇ cos ψ cos ϑ − ψ̇ sin ϑ)
-    """
-
-    def __init__(self, phi=None, psi=None, vartheta=None, chi=None, *,
-                 k: tuple[float, float, float, float] = PAPER_K, duration: float = 1000.0,
-                 name: str = "four_rotation"):
-        k = as_float_array(k, "k", ndim=1, last=4)
-        laws = [phi, psi, vartheta, chi]
-        names = ("phi", "psi", "vartheta", "chi")
-        self.k = tuple(float(x) for x in k)
-        self.laws = [parse_law(sp.Float(float(ki)) * T if law is None else law, n)
-                     for law, ki, n in zip(laws, k, names, strict=True)]
-        self._ang = [sp.lambdify(T, e, "numpy") for e in self.laws]
-        self._rate = [sp.lambdify(T, sp.diff(e, T), "numpy") for e in self.laws]
-        self.duration = check_positive(duration, "duration")
-        self.name = name
-
-    def angles(self, t: npt.ArrayLike) -> tuple[FloatArray, FloatArray]:
-        """``(angles, rates)`` each of shape ``t.shape + (4,)``: (φ, ψ, ϑ, χ) and their rates."""
-        t = as_float_array(t, "t")
-        a = np.stack([np.broadcast_to(f(t), t.shape) for f in self._ang], -1).astype(float)
-        r = np.stack([np.broadcast_to(f(t), t.shape) for f in self._rate], -1).astype(float)
-        return a, r
-
-    def attitude(self, t):
-        a, _ = self.angles(t)
-        return _mul(_mul(_mul(_axis(a[..., 0], 3), _axis(a[..., 1], 2)), _axis(a[..., 2], 1)),
-                    _axis(a[..., 3], 2))
-
-    def angular_rate(self, t):
-        a, r = self.angles(t)
-        ph, ps, th, ch = np.moveaxis(a, -1, 0)
-        dph, dps, dth, dch = np.moveaxis(r, -1, 0)
-        u = dth - dph * np.sin(ps)
-        v = dph * np.cos(ps) * np.cos(th) - dps * np.sin(th)
-        return np.stack([
-            -np.sin(ch) * v + np.cos(ch) * u,                    # eq. (5), ω₁
-            dch + dph * np.sin(th) * np.cos(ps) + dps * np.cos(th),  # eq. (5), ω₂
-            np.sin(ch) * u + np.cos(ch) * v,                     # eq. (5), ω₃
-        ], -1)
-
-    def position(self, t):
-        t = as_float_array(t, "t")
-        return np.zeros(t.shape + (3,))
-
-    velocity = position
-    acceleration = position
-
-    def quasi_coordinates(self, edges: npt.ArrayLike) -> FloatArray:
-        """θ*ₙ = ∫ ω dt over each ``[edges[n−1], edges[n]]`` (eq. (1), (7)); shape (N, 3).
-
-        Adaptive Gauss–Legendre converged to 1e-13 relative (measured against 30-digit
-        mpmath quadrature in the tests).
-        """
-        e = as_float_array(edges, "edges", ndim=1)
-        return integrate_intervals(self.angular_rate, e[:-1], e[1:])
-
-    def seeming_turn_vector(self, t: npt.ArrayLike) -> FloatArray:
-        """θ(t) = ∫₀ᵗ ω dt (eq. (6)), for an increasing time grid starting anywhere ≥ 0."""
-        t = as_float_array(t, "t", ndim=1)
-        edges = np.concatenate([[0.0], t])
-        return np.cumsum(self.quasi_coordinates(edges), axis=0)
+def seeming_turn_vector(motion: BaseMotion, t: npt.ArrayLike) -> FloatArray:
+    """θ(t) = ∫₀ᵗ ω dt (eq. (6)), for an increasing time grid starting anywhere ≥ 0."""
+    t = as_float_array(t, "t", ndim=1)
+    return np.cumsum(quasi_coordinates(motion, np.concatenate([[0.0], t])), axis=0)
 
 
 def miller_rotation_vector(th1: npt.ArrayLike, th2: npt.ArrayLike, th3: npt.ArrayLike,
@@ -166,7 +94,7 @@ def sub_increments(motion: FourRotationMotion, duration: float, dt: float
     duration = check_positive(duration, "duration")
     n = int(round(duration / dt))
     edges = np.arange(3 * n + 1) * (dt / 3)
-    inc = motion.quasi_coordinates(edges).reshape(n, 3, 3)
+    inc = quasi_coordinates(motion, edges).reshape(n, 3, 3)
     return np.arange(n + 1) * dt, inc
 
 
@@ -212,8 +140,6 @@ def drift_order(motion: FourRotationMotion, dts=(0.4, 0.2, 0.1, 0.05), duration:
                 alpha: float = 33 / 80, beta: float = 57 / 80, form: str = "exact"
                 ) -> tuple[FloatArray, float]:
     """Final drift at several steps and the fitted order (slope of log drift vs log Δt)."""
-    from imunav.assess import fit_order
-
     d = np.array([drift(motion, duration, dt, alpha, beta, form).final for dt in dts])
     return d, fit_order(dts, d)
 
@@ -226,7 +152,7 @@ def plot_quasi_coordinates(motion: FourRotationMotion, duration: float = 200.0, 
     import matplotlib.pyplot as plt
 
     t = np.arange(int(round(duration / dt)) + 1) * dt
-    q = motion.quasi_coordinates(t)
+    q = quasi_coordinates(motion, t)
     fig = fig or plt.figure(figsize=(10, 6))
     for i in range(3):
         ax = fig.add_subplot(3, 1, i + 1)
@@ -278,9 +204,6 @@ def reproduce(out) -> list[dict]:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-
-    from imunav.reproduce import record
-    from imunav.symbolic import plaksiy as S
 
     m = FourRotationMotion()
     recs = []

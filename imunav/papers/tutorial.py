@@ -10,6 +10,8 @@ reproduction and say so.
 The exact update for a rate that is constant over each step, ``Q(i) = Q(i−1) ⊗ exp(ω dt)``,
 is the true rotation here (the rate is piecewise constant), so the first-order error can be
 measured exactly.
+
+May import: anything below the papers (``imunav.core`` … ``imunav.io``), ``imunav.symbolic``.
 """
 
 from __future__ import annotations
@@ -18,8 +20,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from imunav.errors import ImunavError, check_positive
-from imunav.rotations import FloatArray, _angle, _dcm, _exp, _mul
+from imunav.analysis.metrics import fit_order
+from imunav.core.rotations import FloatArray, _angle, _dcm, _exp, _mul
+from imunav.core.validation import ImunavError, check_positive
+from imunav.motion.analytic import Motion
+from imunav.papers.records import record
+from imunav.sensors.simulate import simulate_imu
 
 P0 = np.array([1.0, 2.0, 3.0])
 PX0, PY0, PZ0 = np.array([2.0, 2.0, 3.0]), np.array([1.0, 3.0, 3.0]), np.array([1.0, 2.0, 4.0])
@@ -84,8 +90,6 @@ def angle_error(dt: float = 0.5, duration: float | None = None, **kw) -> FloatAr
 def error_vs_dt(dts=(0.5, 0.25, 0.125, 0.0625, 0.03125), duration: float = 49.5
                 ) -> tuple[FloatArray, float]:
     """Final angle error (rad) vs dt over the same 49.5 s schedule, and the fitted order."""
-    from imunav.assess import fit_order
-
     e = np.array([angle_error(dt, duration=duration)[-1] for dt in dts])
     return e, fit_order(dts, e)
 
@@ -93,8 +97,6 @@ def error_vs_dt(dts=(0.5, 0.25, 0.125, 0.0625, 0.03125), duration: float = 49.5
 def gyro_measures_rate_demo() -> dict:
     """A body turning at a constant π/8 rad/s about x: the (ideal) gyroscope reads π/8 rad/s,
     while the angular acceleration is zero — a gyroscope measures angular *velocity*."""
-    from imunav import Motion, simulate_imu
-
     sig = simulate_imu(Motion(roll="pi/8*t"), 10.0, 2.0)
     return {"gyro_x_rad_s": sig.gyro[:, 0], "angular_acceleration": np.gradient(sig.gyro[:, 0], 0.1)}
 
@@ -120,8 +122,6 @@ def reproduce(out) -> list[dict]:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-
-    from imunav.reproduce import record
 
     fig = plt.figure(figsize=(11, 5))
     plot_run(run(), fig.add_subplot(1, 2, 1, projection="3d"), "first-order + normalise (as written)")

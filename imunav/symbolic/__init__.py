@@ -1,1 +1,4 @@
-"""SymPy derivations behind the paper reproductions (importable, tested, printed by notebooks)."""
+"""SymPy derivations behind the paper reproductions (importable, tested, printed by notebooks).
+
+May import: nothing from imunav but ``imunav.symbolic``.
+"""

@@ -10,6 +10,8 @@ Findings (each computed here and shown in notebook 01):
 3. The printed diagonal terms (31)–(33) of Ω_orig are checked against the exact
    ``((C_k)ᵀ C_{k+1} − I)/dt`` by :func:`diagonal_findings`.
 4. The numeric example (δθ = δφ = 0.1°, θ = 30°, 100 Hz) — :func:`omega33_example`.
+
+May import: nothing from imunav but ``imunav.symbolic``.
 """
 
 from __future__ import annotations
@@ -99,13 +101,6 @@ def diagonal_findings() -> dict[str, object]:
         out[f"omega{i + 1}{i + 1}"] = d == 0
         out[f"omega{i + 1}{i + 1}_difference_times_dt"] = sp.factor(d)
     return out
-
-
-def exact_diagonal_compact() -> tuple[sp.Expr, sp.Expr, sp.Expr]:
-    """Exact Ω_orig(i,i)·dt + 1 written compactly: the dot products of matching columns of
-    C_k and C_{k+1} (column i of eq. (5) is the body axis i seen... in inertial coordinates)."""
-    Ck, Ck1 = eq5(psi0, th0, ph0), eq5(psi1, th1, ph1)
-    return tuple(sp.trigsimp((Ck[:, i].T * Ck1[:, i])[0]) for i in range(3))
 
 
 def omega33_example(dtheta_deg: float = 0.1, dphi_deg: float = 0.1, theta_deg: float = 30.0,

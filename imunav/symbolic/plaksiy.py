@@ -13,6 +13,8 @@ Findings (each computed by a function here and shown in notebook 02):
    (:func:`omega_discrepancy` simplifies the difference to zero); eq. (5) is therefore the
    body-frame (Hamilton, right-multiplied) angular velocity, the same convention as imunav's
    gyro.
+
+May import: nothing from imunav but ``imunav.symbolic``.
 """
 
 from __future__ import annotations

@@ -13,9 +13,9 @@ import numpy as np
 from ipywidgets import Dropdown, FloatLogSlider, interact
 
 import imunav
-from imunav import Motion, navigate, simulate_imu
-from imunav import quickstart as qs
-from imunav.assess import nav_errors
+from imunav import Motion, nav_errors, navigate, plotting, simulate_imu
+from imunav.analysis import roundtrip as rt
+from imunav.analysis.family import fmt_err
 
 SEED = 0  # nothing here is random; every notebook sets one seed in its first cell
 np.set_printoptions(precision=6, suppress=False)
@@ -51,8 +51,6 @@ sig = simulate_imu(motion, rate=100.0, output="increments")
 t0 = np.array([0.0])
 nav = navigate(sig, motion.attitude(t0)[0], motion.velocity(t0)[0], motion.position(t0)[0])
 err = nav_errors(nav, motion)
-from imunav.family import fmt_err  # noqa: E402
-
 print(f"{len(sig)} increments at {sig.rate:g} Hz, algorithm {nav.algorithm} (the default)")
 print(f"max position error  {fmt_err(err.position.max(), 1e-10)} m")
 print(f"max velocity error  {fmt_err(err.velocity.max(), 1e-10)} m/s")
@@ -61,8 +59,8 @@ print("(below 1e-10 is rounding: the ideal signals are integrated back essential
 
 # %%
 # NBVAL_IGNORE_OUTPUT
-res = qs.run(motion, rate=100.0, output="increments")
-qs.plot_run(res)
+res = rt.round_trip(motion, rate=100.0, output="increments")
+plotting.plot_run(res)
 plt.show()
 
 # %% [markdown]
@@ -80,7 +78,7 @@ plt.show()
 
 # %%
 rates = (50, 100, 200, 400)
-rows = qs.error_table(motion, rates)
+rows = rt.error_table(motion, rates)
 print(f"{'signals/algorithm':30s}" + "".join(f"{r:>10d} Hz" for r in rates) + "   order")
 def _o(x):
     return "  —" if x is None else f"{x:.1f}"
@@ -97,7 +95,7 @@ for row in rows:
 
 # %%
 # NBVAL_IGNORE_OUTPUT
-qs.plot_error_vs_rate(rows, rates)
+plotting.plot_error_vs_rate(rows, rates)
 plt.show()
 
 # %% [markdown]
@@ -114,7 +112,7 @@ choices = [f"{k}/{n}" for k, table in imunav.ALGORITHMS.items() for n in table]
           algorithm=Dropdown(options=choices, value="increments/poly8_m6"))
 def explore(rate, algorithm):
     kind, name = algorithm.split("/")
-    qs.plot_run(qs.run(motion, rate=rate, output=kind, algorithm=name))
+    plotting.plot_run(rt.round_trip(motion, rate=rate, output=kind, algorithm=name))
     plt.show()
 
 # %% [markdown]

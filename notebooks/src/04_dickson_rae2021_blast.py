@@ -28,7 +28,7 @@ SEED = 0
 rng = np.random.default_rng(SEED)
 w = rng.normal(0, 2.0, (1000, 3))
 q0 = D.tait_bryan_to_quat(0.3, -0.2, 0.5)
-from imunav.rotations import quat_angle  # noqa: E402
+from imunav.core.rotations import quat_angle  # noqa: E402
 
 diff = quat_angle(D.integrate_fixed_frame(w, 1e-3, q0), D.integrate_body_frame(w, 1e-3, q0)).max()
 print(f"max angle between p(t) q(t) and q(t) ⊗ exp(ω_b Δt) over 1000 random steps: {diff:.0e} rad"

@@ -4,19 +4,18 @@
 # The tool the Marusenkova paper's introduction asks for: preset a motion and the error
 # characteristics a manufacturer specifies, simulate the sensors' signals, compute many
 # potential trajectories, and judge from the spread whether the IMU suits the task — without
-# building a device. Computation: `imunav.sensors`, `imunav.montecarlo`; presets with their
-# datasheet sources in `imunav.presets`.
+# building a device. Computation: `imunav.sensors` (error models), `imunav.analysis` (Monte Carlo
+# and verdict); presets with their datasheet sources in `imunav.sensors.presets`.
 
 # %%
 import matplotlib.pyplot as plt
 import numpy as np
 from ipywidgets import Dropdown, FloatLogSlider, IntSlider, interact
 
-from imunav import Motion
-from imunav.montecarlo import assess, format_verdict, monte_carlo, plot_envelope
+from imunav import Motion, assess, format_verdict, monte_carlo
 from imunav.papers.marusenkova2020 import motion_for
-from imunav.presets import PRESETS
-from imunav.sensors import ImuModel, allan_deviation, apply_triad
+from imunav.plotting import plot_envelope
+from imunav.sensors import PRESETS, ImuModel, allan_deviation, apply_triad
 
 SEED = 2026
 

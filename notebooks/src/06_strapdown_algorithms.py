@@ -11,8 +11,9 @@ import matplotlib.pyplot as plt
 from ipywidgets import Dropdown, FloatLogSlider, FloatSlider, interact
 
 import imunav
-from imunav import benchmarks as B
-from imunav import family as F
+from imunav import plotting
+from imunav.analysis import family as F
+from imunav.motion import catalog as B
 
 SEED = 0  # nothing here is random
 
@@ -114,9 +115,9 @@ for r in conv_inc + conv_rates:
 # %%
 # NBVAL_IGNORE_OUTPUT
 fig, axs = plt.subplots(1, 2, figsize=(13, 5))
-F.plot_convergence(conv_inc, axs[0])
+plotting.plot_convergence(conv_inc, axs[0])
 axs[0].set_title("increments, 30° spinning cone")
-F.plot_convergence(conv_rates, axs[1])
+plotting.plot_convergence(conv_rates, axs[1])
 axs[1].set_title("rates, four-rotation model")
 plt.tight_layout()
 plt.show()
@@ -145,8 +146,8 @@ for make in B.BENCHMARKS.values():
 fig, axs = plt.subplots(1, 2, figsize=(13, 4))
 names = [("rates", "exact_exponential"), ("rates", "magnus6"), ("increments", "exact_exponential"),
          ("increments", "coning2"), ("increments", "ignagni4"), ("increments", "poly8_m6")]
-F.plot_error_vs_time(cone, 100.0, names, ax=axs[0])
-F.plot_error_vs_time(B.sculling(duration=20.0), 100.0, names, ax=axs[1])
+plotting.plot_error_vs_time(cone, 100.0, names, ax=axs[0])
+plotting.plot_error_vs_time(B.sculling(duration=20.0), 100.0, names, ax=axs[1])
 plt.tight_layout()
 plt.show()
 
@@ -169,7 +170,7 @@ choices = [f"{k}/{n}" for k, t in imunav.ALGORITHMS.items() for n in t]
           b=Dropdown(options=choices, value="increments/poly8_m6"))
 def explore(half_angle, freq, rate, a, b):
     m = B.coning(half_angle, freq, duration=20.0)
-    F.plot_error_vs_time(m, rate, [tuple(a.split("/")), tuple(b.split("/"))])
+    plotting.plot_error_vs_time(m, rate, [tuple(a.split("/")), tuple(b.split("/"))])
     plt.show()
 
 # %% [markdown]

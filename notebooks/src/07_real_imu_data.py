@@ -5,13 +5,13 @@
 # `imunav/data/real_imu`). There is no ground truth: the devices' onboard orientation is
 # their own sensor fusion (gyro + accelerometer, + magnetometer on the x-IMU), good for
 # checking conventions and short-window gyro integration, not for claiming accuracy.
-# Computation: `imunav.realdata`.
+# Computation: `imunav.io.realdata`.
 
 # %%
 import matplotlib.pyplot as plt
 import numpy as np
 
-from imunav import realdata as R
+from imunav.io import realdata as R
 
 SEED = 0
 

@@ -1,4 +1,7 @@
-"""Error metrics of a navigation result against the truth."""
+"""Error metrics of a navigation result against the truth, and fitted convergence orders.
+
+May import: ``imunav.core``, ``imunav.motion``.
+"""
 
 from __future__ import annotations
 
@@ -6,9 +9,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from imunav.motion import BaseMotion
-from imunav.rotations import FloatArray, _angle
-from imunav.strapdown import NavResult
+from imunav.core.rotations import FloatArray, _angle
+from imunav.core.states import States
+from imunav.motion.base import BaseMotion
 
 
 @dataclass
@@ -30,14 +33,15 @@ class NavErrors:
         return out
 
 
-def nav_errors(nav: NavResult, motion: BaseMotion) -> NavErrors:
-    """Compare ``nav`` with the analytic truth of ``motion`` at the navigation times."""
-    qt = motion.attitude(nav.t)
+def nav_errors(nav: States, truth: BaseMotion | States) -> NavErrors:
+    """Compare ``nav`` with the truth at the navigation times: a motion (evaluated there) or
+    :class:`States` at the same times."""
+    ref = truth.states(nav.t) if isinstance(truth, BaseMotion) else truth
     return NavErrors(
         nav.t,
-        _angle(nav.quaternion, qt),
-        np.linalg.norm(nav.velocity - motion.velocity(nav.t), axis=1),
-        np.linalg.norm(nav.position - motion.position(nav.t), axis=1),
+        _angle(nav.quaternion, ref.quaternion),
+        np.linalg.norm(nav.velocity - ref.velocity, axis=-1),
+        np.linalg.norm(nav.position - ref.position, axis=-1),
     )
 
 

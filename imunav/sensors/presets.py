@@ -4,6 +4,8 @@ Values are the datasheets' typical figures as transcribed for imunav (document n
 given); turn-on bias, scale factor and misalignment are used as 1σ. Where a datasheet gives no
 figure for a term (often bias instability for consumer parts), the term is absent rather than
 invented. Check the numbers against the revision of the part you use before relying on them.
+
+May import: nothing from imunav (data only).
 """
 
 PRESETS: dict[str, dict] = {

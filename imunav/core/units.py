@@ -1,9 +1,12 @@
-"""Datasheet quantities with explicit units, converted once to SI.
+"""The unit tables (one for all of imunav): datasheet quantities and recording columns → SI.
 
 ``parse("0.014 deg/s/sqrt(Hz)", "gyro.noise_density")`` → 2.443e-4 (rad/s/√Hz). Each error
 parameter has a physical dimension; a unit of another dimension (e.g. ``"deg/s"`` for a noise
-density) or an unknown unit is an :class:`~imunav.errors.ImunavError` naming the parameter and
-the accepted units. Plain numbers are taken as SI.
+density) or an unknown unit is an :class:`~imunav.core.validation.ImunavError` naming the
+parameter and the accepted units. Plain numbers are taken as SI. :func:`factor` gives the SI
+factor of a unit of a named dimension (recording readers: ``factor("deg/s", "rate")``).
+
+May import: ``imunav.core.constants``, ``imunav.core.validation``.
 """
 
 from __future__ import annotations
@@ -11,10 +14,9 @@ from __future__ import annotations
 import math
 import re
 
-from imunav.errors import ImunavError
-
-G = 9.80665
-DEG = math.pi / 180
+from imunav.core.constants import DEG
+from imunav.core.constants import G0 as G
+from imunav.core.validation import ImunavError
 
 # Units by dimension: spelling (normalised: no spaces, "√X" → "sqrt(X)") → SI factor.
 _RATE = {"rad/s": 1.0, "deg/s": DEG, "dps": DEG, "mdps": 1e-3 * DEG, "deg/h": DEG / 3600,
@@ -38,12 +40,15 @@ _RW_ACCEL = {  # m/s²/√s (acceleration random walk)
     "m/s^2/sqrt(s)": 1.0, "m/s^2.5": 1.0, "m/s^3/sqrt(Hz)": 1.0, "ug/sqrt(s)": 1e-6 * G,
     "mg/sqrt(h)": 1e-3 * G / 60, "m/s/h/sqrt(h)": 1 / 3600 / 60,
 }
-_TIME = {"s": 1.0, "ms": 1e-3, "min": 60.0, "h": 3600.0}
+_TIME = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6, "min": 60.0, "h": 3600.0}
 _FREQ = {"Hz": 1.0, "kHz": 1e3}
 _FRACTION = {"": 1.0, "ppm": 1e-6, "%": 1e-2}
 _ANGLE = {"rad": 1.0, "mrad": 1e-3, "deg": DEG, "%": 1e-2}   # % = cross-axis coupling
 _GSENS = {"rad/s/(m/s^2)": 1.0, "deg/s/g": DEG / G, "deg/h/g": DEG / 3600 / G,
           "rad/s/g": 1 / G}
+
+#: dimension → {unit spelling → SI factor}: the tables recording readers use (:func:`factor`).
+DIMENSIONS = {"rate": _RATE, "accel": _ACCEL, "time": _TIME, "frequency": _FREQ}
 
 #: parameter key → (accepted units, description) for the gyro and accel triads.
 SPEC = {
@@ -115,3 +120,13 @@ def parse(value, key: str) -> float:
     if not math.isfinite(v) or v < 0:
         raise ImunavError(f"{key} must be a finite non-negative value, got {value!r}")
     return v
+
+
+def factor(unit: str, dimension: str, what: str) -> float:
+    """SI factor of ``unit`` (a spelling of :data:`DIMENSIONS` ``[dimension]``); ``what`` names
+    the argument in the error (``"--gyro-units"``)."""
+    table = DIMENSIONS[dimension]
+    u = _normalise(unit) if isinstance(unit, str) else unit
+    if u not in table:
+        raise ImunavError(f"unknown {what} {unit!r}; expected one of {', '.join(table)}")
+    return table[u]

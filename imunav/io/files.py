@@ -8,20 +8,24 @@ CSV headers (exactly):
 
 Numbers are written with 17 significant digits so a double survives the round trip exactly.
 Input files are only ever read.
+
+May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``.
 """
 
 from __future__ import annotations
 
 import csv
-import tomllib
+import json
 from pathlib import Path
 
 import numpy as np
 
-from imunav.errors import ImunavError, check_positive, check_time
-from imunav.motion import Motion
-from imunav.rotations import FloatArray
-from imunav.simulate import ImuSignals
+from imunav.core.constants import G0
+from imunav.core.rotations import FloatArray
+from imunav.core.states import States
+from imunav.core.validation import ImunavError, check_positive, check_time, read_toml
+from imunav.motion.analytic import Motion
+from imunav.sensors.signals import ImuSignals
 
 RATES_HEADER = ("t", "gx", "gy", "gz", "ax", "ay", "az")
 INCREMENTS_HEADER = ("t", "dthx", "dthy", "dthz", "dvx", "dvy", "dvz")
@@ -37,13 +41,7 @@ def load_motion_toml(path: str | Path) -> tuple[Motion, float, float | None]:
     each a SymPy expression string in ``t``; missing entries are 0.
     """
     path = Path(path)
-    if not path.is_file():
-        raise ImunavError(f"motion file not found: {path}")
-    try:
-        with path.open("rb") as fh:
-            spec = tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise ImunavError(f"malformed TOML in {path}: {exc}") from None
+    spec = read_toml(path, "motion file")
     if "duration" not in spec:
         raise ImunavError(f"{path}: top-level 'duration' (s) is required")
     duration = check_positive(spec["duration"], "duration")
@@ -68,9 +66,9 @@ def write_signals(path: str | Path, sig: ImuSignals) -> None:
     _write(path, HEADERS[sig.kind], [sig.t, sig.gyro, sig.accel])
 
 
-def write_states(path: str | Path, t, position, velocity, quaternion) -> None:
+def write_states(path: str | Path, states: States) -> None:
     """Write a truth or navigation file ``t,x,y,z,vx,vy,vz,qw,qx,qy,qz``."""
-    _write(path, STATE_HEADER, [t, position, velocity, quaternion])
+    _write(path, STATE_HEADER, [states.t, states.position, states.velocity, states.quaternion])
 
 
 def _read_csv(path: str | Path, what: str) -> tuple[tuple[str, ...], FloatArray]:
@@ -124,13 +122,11 @@ def read_signals(path: str | Path, g: float | None = None) -> ImuSignals:
     dt = (t[-1] - t[0]) / (t.size - 1)
     if np.max(np.abs(d - dt)) > 1e-6 * dt:
         raise ImunavError(f"{path}: time column is not uniformly spaced (needed to infer the rate)")
-    from imunav.motion import G0
-
     return ImuSignals(t, data[:, 1:4], data[:, 4:7], kind, 1.0 / dt, G0 if g is None else g)
 
 
-def read_states(path: str | Path) -> dict[str, FloatArray]:
-    """Read a truth/navigation CSV → dict with ``t``, ``position``, ``velocity``, ``quaternion``."""
+def read_states(path: str | Path) -> States:
+    """Read a truth/navigation CSV."""
     header, data = _read_csv(path, "state")
     if header != STATE_HEADER:
         raise ImunavError(
@@ -140,4 +136,11 @@ def read_states(path: str | Path) -> dict[str, FloatArray]:
     q = data[:, 7:11]
     if np.any(np.linalg.norm(q, axis=1) < 1e-12):
         raise ImunavError(f"{path}: quaternion columns qw,qx,qy,qz must not be all zero")
-    return {"t": t, "position": data[:, 1:4], "velocity": data[:, 4:7], "quaternion": q}
+    return States(t, data[:, 1:4], data[:, 4:7], q)
+
+
+def write_json(r: dict, path: str | Path) -> None:
+    """Write a result dictionary (``imunav assess --json``) as indented JSON."""
+    with open(path, "w") as fh:
+        json.dump(r, fh, indent=1)
+        fh.write("\n")

@@ -10,81 +10,23 @@ Two output kinds:
     converged to ~1e-13 relative (checked against ``scipy.integrate.quad`` in the tests).
 
 ``N = round(duration × rate)``.
+
+May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors.signals``.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 import numpy.typing as npt
 
-from imunav.errors import ImunavError, as_float_array, check_positive
-from imunav.motion import G0, BaseMotion
-from imunav.rotations import FloatArray
+from imunav.core.constants import G0
+from imunav.core.rotations import FloatArray
+from imunav.core.states import States
+from imunav.core.validation import ImunavError, as_float_array, check_gravity, check_positive
+from imunav.motion.base import BaseMotion
+from imunav.sensors.signals import KINDS, ImuSignals
 
-__all__ = ["G0", "ImuSignals", "TruthStates", "integrate_intervals", "simulate_imu",
-           "truth_states", "sample_times"]
-
-KINDS = ("rates", "increments")
-
-
-@dataclass
-class ImuSignals:
-    """IMU output.
-
-    Attributes
-    ----------
-    t : ndarray, shape (M,)
-        Sample times (s); for increments, the interval ends.
-    gyro : ndarray, shape (M, 3)
-        ``ω_b`` (rad/s) for rates, ``Δθ`` (rad) for increments.
-    accel : ndarray, shape (M, 3)
-        ``f_b`` (m/s²) for rates, ``Δv`` (m/s) for increments.
-    kind : {"rates", "increments"}
-    rate : float
-        Sample rate (Hz).
-    g : float
-        Gravity magnitude used (m/s²).
-    """
-
-    t: FloatArray
-    gyro: FloatArray
-    accel: FloatArray
-    kind: str
-    rate: float
-    g: float = G0
-    meta: dict = field(default_factory=dict)
-
-    def __post_init__(self):
-        if self.kind not in KINDS:
-            raise ImunavError(f"kind must be one of {KINDS}, got {self.kind!r}")
-        self.rate = check_positive(self.rate, "rate")
-        self.t = as_float_array(self.t, "t", ndim=1)
-        self.gyro = as_float_array(self.gyro, "gyro", ndim=2, last=3)
-        self.accel = as_float_array(self.accel, "accel", ndim=2, last=3)
-        n = self.t.shape[0]
-        for name, a in (("gyro", self.gyro), ("accel", self.accel)):
-            if a.shape[0] != n:
-                raise ImunavError(f"{name} must have shape ({n}, 3) to match t, got {a.shape}")
-
-    @property
-    def dt(self) -> float:
-        """Sample interval ``1/rate`` (s)."""
-        return 1.0 / self.rate
-
-    def __len__(self) -> int:
-        return self.t.shape[0]
-
-
-@dataclass
-class TruthStates:
-    """True navigation states at times ``t``: position (m), velocity (m/s), ``q_nb``."""
-
-    t: FloatArray
-    position: FloatArray
-    velocity: FloatArray
-    quaternion: FloatArray
+__all__ = ["integrate_intervals", "sample_times", "simulate_imu", "truth_states"]
 
 
 def sample_times(rate: float, duration: float, t0: float = 0.0) -> FloatArray:
@@ -99,10 +41,9 @@ def sample_times(rate: float, duration: float, t0: float = 0.0) -> FloatArray:
     return t0 + np.arange(n + 1) / rate
 
 
-def truth_states(motion: BaseMotion, t: npt.ArrayLike) -> TruthStates:
-    """True position, velocity and attitude of ``motion`` at times ``t``."""
-    t = as_float_array(t, "t", ndim=1)
-    return TruthStates(t, motion.position(t), motion.velocity(t), motion.attitude(t))
+def truth_states(motion: BaseMotion, t: npt.ArrayLike) -> States:
+    """True position, velocity and attitude of ``motion`` at times ``t`` (``motion.states``)."""
+    return motion.states(t)
 
 
 _GL_CACHE: dict[int, tuple[FloatArray, FloatArray]] = {}
@@ -197,7 +138,7 @@ def simulate_imu(motion: BaseMotion, rate: float, duration: float | None = None,
         duration = motion.duration
         if duration is None:
             raise ImunavError("duration must be given (the motion has no default duration)")
-    g = float(as_float_array(g, "g", ndim=0))
+    g = check_gravity(g)
     t = sample_times(rate, duration, float(t0))
     if output == "rates":
         gyro = motion.angular_rate(t)

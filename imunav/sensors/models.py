@@ -19,19 +19,21 @@ internal_rate          the sensor samples and filters internally at this rate, t
 
 Randomness: each run draws from its own stream ``SeedSequence(seed).spawn(runs)[r]``, so a run
 is reproducible bit for bit whatever the chunking, and runs are independent.
+
+May import: ``imunav.core``, ``imunav.sensors.allan``, ``imunav.sensors.presets``.
 """
 
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 
 import numpy as np
 
-from imunav.errors import ImunavError
-from imunav.rotations import FloatArray
-from imunav.units import SPEC, parse
+from imunav.core.rotations import FloatArray
+from imunav.core.units import SPEC, parse
+from imunav.core.validation import ImunavError, check_positive, read_toml
+from imunav.sensors.allan import gauss_markov_allan_variance
 
 TERMS = ("noise_density", "bias", "bias_instability", "random_walk", "scale_factor",
          "misalignment", "g_sensitivity", "range", "resolution", "bandwidth")
@@ -97,19 +99,13 @@ class ImuModel:
     @classmethod
     def from_toml(cls, path: str | Path) -> ImuModel:
         path = Path(path)
-        if not path.is_file():
-            raise ImunavError(f"IMU file not found: {path}")
-        try:
-            with path.open("rb") as fh:
-                d = tomllib.load(fh)
-        except tomllib.TOMLDecodeError as exc:
-            raise ImunavError(f"malformed TOML in {path}: {exc}") from None
+        d = read_toml(path, "IMU file")
         return cls.from_dict(d, path.stem)
 
     @classmethod
     def load(cls, spec: str) -> ImuModel:
         """A preset name or a path to ``IMU.toml``."""
-        from imunav.presets import PRESETS
+        from imunav.sensors.presets import PRESETS
 
         if spec in PRESETS:
             return cls.from_dict(PRESETS[spec], spec)
@@ -134,15 +130,14 @@ class ImuModel:
         r = [x for x in (self.gyro.internal_rate, self.accel.internal_rate) if x]
         return max(r) if r else None
 
+    def decimation(self, rate: float) -> int:
+        """How many internal samples make one output sample at ``rate`` Hz:
+        ``round(internal_rate / rate)``, at least 1 (1 without an internal rate)."""
+        rate = check_positive(rate, "rate")
+        return max(1, int(round((self.internal_rate or rate) / rate)))
+
 
 # ---------------------------------------------------------------------------- processes
-
-
-def _gm_allan_var(tau: FloatArray, sigma: float, T: float) -> FloatArray:
-    """Allan variance of a first-order Gauss–Markov process (std σ, correlation time T)."""
-    q = 2 * sigma**2 / T
-    x = tau / T
-    return q * T**2 / tau * (1 - (3 - 4 * np.exp(-x) + np.exp(-2 * x)) / (2 * x))
 
 
 def _flicker_bank(T: float | None) -> list[float]:
@@ -152,7 +147,7 @@ def _flicker_bank(T: float | None) -> list[float]:
 def bias_instability_sigma(B: float, T: float | None) -> float:
     """Std of each Gauss–Markov component so the Allan-deviation maximum equals ``B``."""
     taus = np.logspace(-3, 5, 4000)
-    var = sum(_gm_allan_var(taus, 1.0, t) for t in _flicker_bank(T))
+    var = sum(gauss_markov_allan_variance(taus, 1.0, t) for t in _flicker_bank(T))
     return B / float(np.sqrt(var.max()))
 
 
@@ -242,11 +237,6 @@ def apply_triad(m: TriadModel, ideal: FloatArray, kind: str, rate: float, rng,
     return y, flags
 
 
-def run_streams(seed: int, runs: int) -> list[np.random.Generator]:
-    """Independent generators, one per run (``SeedSequence(seed).spawn``)."""
-    return [np.random.default_rng(s) for s in np.random.SeedSequence(seed).spawn(runs)]
-
-
 def measure(model: ImuModel, gyro: FloatArray, accel: FloatArray, kind: str, rate: float,
             rng, decimate: int = 1) -> tuple[FloatArray, FloatArray, np.ndarray]:
     """One run: ideal gyro and accel (n, 3) → measured (gyro, accel, saturation flags)."""
@@ -254,27 +244,3 @@ def measure(model: ImuModel, gyro: FloatArray, accel: FloatArray, kind: str, rat
     gm, fg = apply_triad(model.gyro, gyro, kind, rate, g2, other=accel, decimate=decimate)
     am, fa = apply_triad(model.accel, accel, kind, rate, rg, decimate=decimate)
     return gm, am, fg | fa
-
-
-# -------------------------------------------------------------------------------- Allan
-
-
-def allan_deviation(x: FloatArray, rate: float, taus=None) -> tuple[FloatArray, FloatArray]:
-    """Overlapping Allan deviation of rate samples ``x`` (n,) or (n, k) at ``rate`` Hz.
-
-    Returns ``(taus, adev)`` with ``adev`` of shape (len(taus),) or (len(taus), k).
-    """
-    x = np.asarray(x, float)
-    n = x.shape[0]
-    if taus is None:
-        ms = np.unique(np.logspace(0, np.log10(n // 3), 40).astype(int))
-    else:
-        ms = np.unique(np.maximum(1, np.round(np.asarray(taus) * rate).astype(int)))
-        ms = ms[ms <= (n - 1) // 2]
-    theta = np.concatenate([np.zeros((1,) + x.shape[1:]), np.cumsum(x, axis=0)]) / rate
-    out = []
-    for m in ms:
-        d = theta[2 * m:] - 2 * theta[m:-m] + theta[: -2 * m]
-        tau = m / rate
-        out.append(np.sqrt(np.mean(d * d, axis=0) / (2 * tau * tau)))
-    return ms / rate, np.array(out)

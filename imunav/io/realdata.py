@@ -5,6 +5,8 @@ Every reader converts to imunav's SI units at the boundary (rad/s, m/s², s) and
 device's onboard orientation, where present, is returned raw (``device_t``, ``device_q``):
 its convention is checked against the gyro in ``notebooks/07_real_imu_data.ipynb`` and
 :func:`device_quaternion_convention`.
+
+May import: ``imunav.core``, ``imunav.sensors``, ``imunav.strapdown``.
 """
 
 from __future__ import annotations
@@ -16,14 +18,13 @@ from pathlib import Path
 
 import numpy as np
 
-from imunav.errors import ImunavError, check_positive
-from imunav.motion import G0
-from imunav.rotations import FloatArray, _angle, _mul
-from imunav.simulate import ImuSignals
-
-GYRO_UNITS = {"rad/s": 1.0, "deg/s": np.pi / 180, "dps": np.pi / 180}
-ACCEL_UNITS = {"m/s^2": 1.0, "m/s2": 1.0, "m/s²": 1.0, "g": G0}
-TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6}
+from imunav.core.constants import DEG, G0
+from imunav.core.rotations import FloatArray, _angle, _conj, _mul
+from imunav.core.units import factor
+from imunav.core.validation import ImunavError, check_positive
+from imunav.sensors.signals import ImuSignals
+from imunav.strapdown.alignment import level_attitude, remove_static_biases
+from imunav.strapdown.registry import navigate
 
 
 @dataclass
@@ -37,12 +38,6 @@ class Recording:
 def data_path(*parts: str) -> Path:
     """Path of a file shipped in ``imunav/data`` (e.g. ``data_path("real_imu", "xio_ximu3")``)."""
     return Path(str(resources.files("imunav") / "data" / Path(*parts)))
-
-
-def _unit(table: dict, value: str, what: str) -> float:
-    if value not in table:
-        raise ImunavError(f"unknown {what} units {value!r}; expected one of {sorted(table)}")
-    return table[value]
 
 
 def _read_table(path: Path) -> tuple[list[str], np.ndarray]:
@@ -87,9 +82,9 @@ def read_generic(path: str | Path, *, gyro_columns, accel_columns, gyro_units: s
     """A CSV with a header: name the gyro and accel columns (x, y, z) and their units, and
     either a time column (with units) or a sample rate (Hz)."""
     path = Path(path)
-    gs = _unit(GYRO_UNITS, gyro_units, "gyro")
-    as_ = _unit(ACCEL_UNITS, accel_units, "accel")
-    ts = _unit(TIME_UNITS, time_units, "time")
+    gs = factor(gyro_units, "rate", "gyro units")
+    as_ = factor(accel_units, "accel", "accel units")
+    ts = factor(time_units, "time", "time units")
     header, data = _read_table(path)
     cols = {}
     for name in list(gyro_columns) + list(accel_columns) + ([time_column] if time_column else []):
@@ -122,7 +117,7 @@ def read_ximu3(folder: str | Path | None = None) -> Recording:
         raise ImunavError(f"{folder / 'Inertial.csv'}: not an x-IMU3 inertial file "
                           f"(header {header[:7]})")
     t = (d[:, 0] - d[0, 0]) * 1e-6
-    rec = Recording(_signals(t, d[:, 1:4] * GYRO_UNITS["deg/s"], d[:, 4:7] * G0,
+    rec = Recording(_signals(t, d[:, 1:4] * DEG, d[:, 4:7] * G0,
                              folder / "Inertial.csv"), meta={"device": "x-IMU3"})
     qf = folder / "Quaternion.csv"
     if qf.is_file():
@@ -145,7 +140,7 @@ def read_ximu(folder: str | Path | None = None, rate: float = 256.0) -> Recordin
     if not header[0].startswith("Packet number") or "Gyroscope X (deg/s)" not in header:
         raise ImunavError(f"{files[0]}: not an x-IMU calibrated inertial file")
     t = np.arange(d.shape[0]) / check_positive(rate, "rate")
-    rec = Recording(_signals(t, d[:, 1:4] * GYRO_UNITS["deg/s"], d[:, 4:7] * G0, files[0]),
+    rec = Recording(_signals(t, d[:, 1:4] * DEG, d[:, 4:7] * G0, files[0]),
                     meta={"device": "x-IMU", "packets": d[:, 0]})
     qfiles = sorted(folder.glob("*_Quaternion.csv"))
     if qfiles:
@@ -164,8 +159,6 @@ READERS = {"ximu3": read_ximu3, "ximu": read_ximu}
 def gyro_attitude(sig: ImuSignals, q0: FloatArray, i0: int = 0, i1: int | None = None,
                   algorithm: str = "magnus6") -> FloatArray:
     """Gyro-only attitude from sample ``i0`` (attitude ``q0``) to ``i1``: (i1 − i0, 4)."""
-    from imunav.strapdown import navigate
-
     i1 = len(sig) if i1 is None else i1
     sub = ImuSignals(sig.t[i0:i1], sig.gyro[i0:i1], sig.accel[i0:i1], "rates", sig.rate, sig.g)
     return navigate(sub, q0, algorithm=algorithm).quaternion
@@ -205,8 +198,8 @@ def device_quaternion_convention(rec: Recording, window: float = 2.0) -> dict:
             for a, b, i in zip(ti[ok], tj[ok], idx[ok], strict=True):
                 qa, qb = qd[a], qd[b]
                 if meaning == "q_bn":
-                    qa, qb = qa * [1, -1, -1, -1], qb * [1, -1, -1, -1]
-                rel_dev = _mul(qa * [1, -1, -1, -1], qb)
+                    qa, qb = _conj(qa), _conj(qb)
+                rel_dev = _mul(_conj(qa), qb)
                 g = gyro_attitude(sig, [1.0, 0, 0, 0], i, i + n + 1)[-1]
                 errs.append(np.degrees(_angle(rel_dev, g)))
             out[f"{layout}/{meaning}"] = float(np.median(errs))
@@ -219,7 +212,7 @@ def device_as_q_nb(rec: Recording) -> FloatArray:
     x-IMU3 ``[W, X, Y, Z]`` sensor→earth; x-IMU ``[w, x, y, z]`` earth→sensor (conjugated)."""
     q = _device_at(rec, "wxyz")
     if rec.meta.get("device") == "x-IMU":
-        q = q * [1, -1, -1, -1]
+        q = _conj(q)
     return q
 
 
@@ -282,14 +275,11 @@ def drift_from_rest(sig: ImuSignals, i0: int, i1: int, bias_window: int | None =
 
     ``bias_window``: if given, gyro bias and accelerometer residual are first estimated over
     the first ``bias_window`` samples and subtracted (static-segment calibration)."""
-    from imunav.papers.dickson_rae2021 import initial_attitude_from_accel, zero_biases
-    from imunav.strapdown import navigate
-
     g, a = sig.gyro[i0:i1], sig.accel[i0:i1]
     nb = bias_window or min(len(g), int(0.5 * sig.rate))
-    q0 = initial_attitude_from_accel(a[:nb], sig.g, tol=0.1)
+    q0 = level_attitude(a[:nb], sig.g, tol=0.1)
     if bias_window:
-        g, a, _, _ = zero_biases(g, a, slice(0, bias_window), q0, sig.g)
+        g, a, _, _ = remove_static_biases(g, a, slice(0, bias_window), q0, sig.g)
     sub = ImuSignals(sig.t[i0:i1] - sig.t[i0], g, a, "rates", sig.rate, sig.g)
     nav = navigate(sub, q0, algorithm=algorithm)
     t = nav.t

@@ -1,4 +1,4 @@
-"""Closed-form benchmark motions for strapdown algorithms (all usable as imunav Motions).
+"""Named motions: the closed-form benchmarks of strapdown algorithms, and examples.
 
 - :func:`coning` — classical coning: the body's rotation axis sweeps a cone; exact ``q`` and
   ``ω_b``. Savage 1998 (J. Guid. Control Dyn. 21(1)), Ignagni 1990.
@@ -8,8 +8,13 @@
 - :func:`four_rotation` — the Plaksiy & Homozkova reference model.
 - :func:`stationary` — at rest, tilted.
 
+- :func:`figure_eight` — the README/quickstart example: a climbing horizontal figure-eight,
+  turning about all three axes.
+
 Attitude laws are SymPy quaternions; ``ω_b = vec(2 q* ⊗ q̇)`` is derived symbolically, so the
 truth is exact to rounding.
+
+May import: ``imunav.core``, ``imunav.motion``.
 """
 
 from __future__ import annotations
@@ -17,59 +22,10 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from imunav.errors import ImunavError, as_float_array
-from imunav.laws import T, evaluate, lambdify, parse_law
-from imunav.motion import POSITION_KEYS, BaseMotion, Motion
-from imunav.rotations import FloatArray
-
-
-class QuaternionLawMotion(BaseMotion):
-    """A motion whose attitude is a closed-form quaternion ``q_nb(t)`` (SymPy, scalar first).
-
-    Parameters
-    ----------
-    q : 4 SymPy expressions in ``imunav.motion.T``
-        The attitude law; it must be a unit quaternion for every t (checked at sample times).
-    x, y, z : position laws (m), as for :class:`imunav.Motion`.
-    """
-
-    def __init__(self, q, x=0, y=0, z=0, *, duration: float | None = None, name: str = "motion"):
-        q = [parse_law(c, f"q{i}") for i, c in enumerate(q)]
-        qd = [sp.diff(c, T) for c in q]
-        Q = sp.algebras.Quaternion
-        w = 2 * Q(q[0], -q[1], -q[2], -q[3]) * Q(*qd)
-        self.expressions = {"quaternion": q, "angular_rate": [w.b, w.c, w.d]}
-        pos = [parse_law(v, k) for k, v in zip(POSITION_KEYS, (x, y, z), strict=True)]
-        vel = [sp.diff(e, T) for e in pos]
-        acc = [sp.diff(e, T) for e in vel]
-        self.expressions.update(position=pos, velocity=vel, acceleration=acc)
-        self._f = {k: [lambdify(e) for e in v] for k, v in self.expressions.items()}
-        self.duration = duration
-        self.name = name
-        tt = np.linspace(0, duration or 1.0, 17)
-        n = np.linalg.norm(self._eval("quaternion", tt), axis=-1)
-        if np.max(np.abs(n - 1)) > 1e-12:
-            raise ImunavError("q must be a unit quaternion law (|q| = 1 at every t)")
-
-    def _eval(self, key, t) -> FloatArray:
-        t = as_float_array(t, "t")
-        return np.stack([evaluate(f, t, f"{key}[{i}] of {self.name}")
-                         for i, f in enumerate(self._f[key])], axis=-1)
-
-    def attitude(self, t):
-        return self._eval("quaternion", t)
-
-    def angular_rate(self, t):
-        return self._eval("angular_rate", t)
-
-    def position(self, t):
-        return self._eval("position", t)
-
-    def velocity(self, t):
-        return self._eval("velocity", t)
-
-    def acceleration(self, t):
-        return self._eval("acceleration", t)
+from imunav.motion.analytic import Motion
+from imunav.motion.base import BaseMotion
+from imunav.motion.laws import T
+from imunav.motion.quaternion_law import FourRotationMotion, QuaternionLawMotion
 
 
 def _qmul(a, b):
@@ -121,14 +77,21 @@ def sculling(angle_deg: float = 1.0, accel: float = 1.0, freq_hz: float = 2.0,
 
 def four_rotation(duration: float = 60.0) -> BaseMotion:
     """The Plaksiy & Homozkova four-rotation model, k = (0.15, 1.55, 0.35, −1.55)."""
-    from imunav.papers.plaksiy import FourRotationMotion
-
     return FourRotationMotion(duration=duration)
 
 
 def stationary(duration: float = 60.0) -> Motion:
     """At rest with yaw 30°, pitch 10°, roll −20°."""
     return Motion(yaw="pi/6", pitch="pi/18", roll="-pi/9", duration=duration, name="stationary")
+
+
+def figure_eight(duration: float = 20.0) -> Motion:
+    """A 20 s motion that moves along all three axes and turns about all three (the quickstart's
+    and ``examples/figure_eight.toml``'s): a horizontal figure-eight that climbs; yaw, pitch and
+    roll oscillate at different frequencies."""
+    return Motion(x="10*sin(0.3*t)", y="5*sin(0.6*t)", z="-0.05*t**2",
+                  yaw="0.8*sin(0.25*t) + 0.1*t", pitch="0.3*sin(0.7*t)", roll="0.5*sin(1.1*t)",
+                  duration=duration, name="quickstart")
 
 
 #: name → factory of the benchmark motions.

@@ -8,9 +8,10 @@ Offline processing may use samples on both sides of an interval. On each interva
   ``S_j = Σ_{i≤j} Δθ_i`` (``S(t) = ∫ω dt`` exactly at every node), and ``ω = S'``. The fit
   reproduces the interval's own increment exactly.
 
-Attitude: ``q_k = q_{k−1} ⊗ exp(φ)`` with φ from ``nsub`` Magnus sub-steps of order 4
-(2 Gauss nodes) or 6 (3 Gauss nodes); for body-frame right multiplication the Lie bracket
-of rotation vectors is ``[x, y] = y × x``. Velocity and position: 3-point Gauss quadrature of
+Attitude: ``q_k = q_{k−1} ⊗ exp(φ)`` with φ from one Magnus step of order 4 (2 Gauss nodes)
+or 6 (3 Gauss nodes); for body-frame right multiplication the Lie bracket of rotation vectors
+is ``[x, y] = y × x``. (:func:`interval_quaternions` composes several sub-steps, for the cost
+and accuracy study of notebook 06.) Velocity and position: 3-point Gauss quadrature of
 ``C_nb(t) f_b(t)`` over the interval, the attitude at each node from a Magnus step over
 ``[t_{k−1}, node]``:
 
@@ -19,6 +20,8 @@ of rotation vectors is ``[x, y] = y × x``. Velocity and position: 3-point Gauss
 
 Sources: Magnus integrators, Iserles & Nørsett (1999); the sixth-order 3-node form of
 Blanes, Casas & Ros (2000), BIT 40, eq. for Ω^[6]; rotation-vector attitude, Bortz (1971).
+
+May import: ``imunav.core``, ``imunav.strapdown.scan``.
 """
 
 from __future__ import annotations
@@ -29,7 +32,8 @@ from functools import cache
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
-from imunav.rotations import FloatArray, _cross, _exp, _mul, _rotate
+from imunav.core.rotations import FloatArray, _cross, _exp, _mul, _rotate
+from imunav.strapdown.scan import exp_product
 
 _G4 = np.array([0.5 - np.sqrt(3) / 6, 0.5 + np.sqrt(3) / 6])
 _G6 = np.array([0.5 - np.sqrt(15) / 10, 0.5, 0.5 + np.sqrt(15) / 10])
@@ -177,8 +181,9 @@ class LocalFit:
         return out
 
 
-def rotation_vectors(fit: LocalFit, order: int, nsub: int) -> FloatArray:
-    """φ_k over each whole interval, composed from ``nsub`` Magnus sub-steps: returns Δq (N, 4)."""
+def interval_quaternions(fit: LocalFit, order: int, nsub: int) -> FloatArray:
+    """The attitude increment ``Δq_k`` (N, 4) of every interval, composed from ``nsub`` Magnus
+    sub-steps of ``order`` on the fitted rate."""
     nodes, step = _MAGNUS[order]
     dq = None
     for j in range(nsub):
@@ -193,16 +198,14 @@ _POLY_CHUNK = 1 << 15
 
 
 def navigate_poly(kind: str, gyro: FloatArray, accel: FloatArray, h: float, q0: FloatArray,
-                  v0: FloatArray, p0: FloatArray, g: float, *, m: int, order: int,
-                  nsub: int) -> tuple[FloatArray, FloatArray, FloatArray]:
+                  v0: FloatArray, p0: FloatArray, g: float, *, m: int, order: int
+                  ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Attitude, velocity and position at every ``t_k`` (see the module docstring).
 
     ``gyro``/``accel`` (N, 3), or (N, R, 3) for R runs at once with ``q0`` (R, 4). The
     per-interval work is done chunk by chunk so that temporaries stay small; the outputs and
     one rotation vector and two body-frame increments per interval are all that is stored.
     """
-    from imunav.strapdown import cumulative_product, exp_product
-
     wfit = LocalFit(gyro, kind, h, m)
     ffit = LocalFit(accel, kind, h, m)
     n = wfit.n
@@ -212,15 +215,14 @@ def navigate_poly(kind: str, gyro: FloatArray, accel: FloatArray, h: float, q0: 
     s_all = np.concatenate([nodes] + [si * nodes for si in _GQ_X])
     nn = nodes.size
     shape = (n,) + gyro.shape[1:]
-    phi = np.empty(shape) if nsub == 1 else None
+    phi = np.empty(shape)
     dv_b, dp_b = np.empty(shape), np.empty(shape)
     runs = int(np.prod(gyro.shape[1:-1]))
     per = max(1, _POLY_CHUNK // runs)                            # intervals per chunk
     for lo in range(0, n, per):
         hi = min(n, lo + per)
         w = wfit.at_nodes(s_all, lo, hi)                         # (12, c, [R,] 3)
-        if nsub == 1:
-            phi[lo:hi] = step(np.moveaxis(w[:nn], 0, -2), h)
+        phi[lo:hi] = step(np.moveaxis(w[:nn], 0, -2), h)
         f = ffit.at_nodes(_GQ_X, lo, hi)                         # (3, c, [R,] 3)
         dv_b[lo:hi] = 0.0
         dp_b[lo:hi] = 0.0
@@ -229,11 +231,8 @@ def navigate_poly(kind: str, gyro: FloatArray, accel: FloatArray, h: float, q0: 
             rf = _rotate(_exp(step(wi, h * si)), f[i])
             dv_b[lo:hi] += (h * _GQ_W[i]) * rf
             dp_b[lo:hi] += (h * h * _GQ_W[i] * (1 - si)) * rf
-    if nsub == 1:
-        q = exp_product(q0, phi)
-        del phi
-    else:
-        q = cumulative_product(q0, rotation_vectors(wfit, order, nsub))
+    q = exp_product(q0, phi)
+    del phi
     gn = np.array([0.0, 0.0, g])
     v = np.empty((n + 1,) + dv_b.shape[1:])
     p = np.empty_like(v)

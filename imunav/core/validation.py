@@ -1,12 +1,16 @@
-"""User-facing errors and the input checks that raise them.
+"""The one user-facing error type, :class:`ImunavError`, and the input checks that raise it.
 
-Every check names the argument, what was expected and what came, so that a bad input
-never surfaces as a traceback from deep inside numpy.
+Every check names the argument, what was expected and what came, so that a bad input never
+surfaces as a traceback from deep inside numpy.
+
+May import: nothing from imunav (layer 0).
 """
 
 from __future__ import annotations
 
 import numbers
+import tomllib
+from pathlib import Path
 
 import numpy as np
 import numpy.typing as npt
@@ -100,3 +104,19 @@ def check_time(t: npt.ArrayLike, name: str = "t") -> np.ndarray:
                 f"does not exceed {name}[{i}] = {_show(a[i])}"
             )
     return a
+
+
+def read_toml(path, what: str) -> dict:
+    """The table of a TOML file (``what`` names it: "motion file", "IMU file"), or one
+    ImunavError for a missing file, a directory, text that is not UTF-8, or malformed TOML."""
+    path = Path(path)
+    if not path.is_file():
+        raise ImunavError(f"{what} not found: {path}")
+    try:
+        text = path.read_bytes().decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ImunavError(f"{what} {path} is not UTF-8 text (byte {exc.start})") from None
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ImunavError(f"malformed TOML in {path}: {exc}") from None

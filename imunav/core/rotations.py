@@ -3,6 +3,12 @@
 All functions are vectorised over leading axes: quaternions have shape ``(..., 4)`` as
 ``[w, x, y, z]``, vectors ``(..., 3)``, matrices ``(..., 3, 3)``. ``q_nb`` rotates body vectors
 into the navigation frame, ``v_n = q ⊗ v_b ⊗ q*`` and ``C_nb = quat_to_dcm(q_nb)``.
+
+Public functions check their inputs; the underscore kernels (``_mul``, ``_rotate``, ``_conj``,
+``_exp``, ``_log``, ``_angle``, ``_dcm``, ``_cross``) are unchecked and are what the numeric
+layers above call in hot paths.
+
+May import: ``imunav.core.validation``.
 """
 
 from __future__ import annotations
@@ -13,7 +19,7 @@ import numpy as np
 import numpy.typing as npt
 from numpy.typing import NDArray
 
-from imunav.errors import ImunavError, as_float_array
+from imunav.core.validation import ImunavError, as_float_array
 
 FloatArray = NDArray[np.float64]
 
@@ -51,10 +57,18 @@ def _mul(p: FloatArray, q: FloatArray) -> FloatArray:
     )
 
 
+_CONJ = np.array([1.0, -1.0, -1.0, -1.0])
+
+
 def quat_conj(q: npt.ArrayLike) -> FloatArray:
     """Conjugate ``q* = [w, −x, −y, −z]`` (the inverse of a unit quaternion)."""
     q = as_float_array(q, "q", last=4)
-    return q * np.array([1.0, -1.0, -1.0, -1.0])
+    return _conj(q)
+
+
+def _conj(q: FloatArray) -> FloatArray:
+    # Unchecked kernel: q* for any (..., 4) array.
+    return q * _CONJ
 
 
 def quat_normalize(q: npt.ArrayLike) -> FloatArray:
@@ -254,7 +268,7 @@ def quat_angle(p: npt.ArrayLike, q: npt.ArrayLike) -> FloatArray:
 
 
 def _angle(p: FloatArray, q: FloatArray) -> FloatArray:
-    d = _mul(p * np.array([1.0, -1.0, -1.0, -1.0]), q)
+    d = _mul(_conj(p), q)
     return 2 * np.arctan2(np.linalg.norm(d[..., 1:], axis=-1), np.abs(d[..., 0]))
 
 

@@ -1,10 +1,11 @@
 """Plain sequential reference implementations of the strapdown recursions.
 
 One sample at a time, scalar arithmetic only, written out from the equations in
-:mod:`imunav.strapdown` — slow in Python, but easy to read and to check by eye. They serve two
+:mod:`imunav.strapdown.classic` and :mod:`imunav.strapdown.highorder` — slow in Python, but
+easy to read and to check by eye. They serve two
 purposes:
 
-- **oracles** for the vectorised fast path: ``tests/test_performance.py`` runs them (as plain
+- **oracles** for the vectorised fast path: ``tests/test_fast_path.py`` runs them (as plain
   Python) on short inputs and requires the vectorised results to agree to ≤ 1e-12;
 - the **compiled baseline** of ``benchmarks/bench.py``: the same functions JIT-compiled with
   numba (the ``bench`` extra) are what "the speed of compiled code" means there.
@@ -12,6 +13,8 @@ purposes:
 They use only ``math``, indexing and ``np.zeros``, so numba compiles them unchanged. Each writes into
 preallocated output arrays ``q (N+1, 4)``, ``v (N+1, 3)``, ``p (N+1, 3)`` whose first row holds
 the initial state.
+
+May import: nothing from imunav (numba must compile every function unchanged).
 """
 
 from __future__ import annotations

@@ -1,4 +1,9 @@
-"""Run the whole strapdown family on a benchmark: tidy tables of errors and fitted orders."""
+"""Run the whole strapdown family on a benchmark: tidy tables of errors and fitted orders, the
+cost/accuracy sweep of the high-order configurations, and the coning budget.
+
+May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``, ``imunav.strapdown``,
+``imunav.analysis.metrics``, ``imunav.analysis.roundtrip``.
+"""
 
 from __future__ import annotations
 
@@ -6,15 +11,14 @@ import time
 
 import numpy as np
 
-from imunav.assess import fit_order, nav_errors
-from imunav.motion import BaseMotion
-from imunav.simulate import simulate_imu
-from imunav.strapdown import ALGORITHMS, navigate
-
-
-def _initial(motion: BaseMotion, sig):
-    t0 = np.array([sig.t[0] if sig.kind == "rates" else sig.t[0] - sig.dt])
-    return motion.attitude(t0)[0], motion.velocity(t0)[0], motion.position(t0)[0]
+from imunav.analysis.metrics import fit_order, nav_errors
+from imunav.analysis.roundtrip import initial_state
+from imunav.core.rotations import _angle, _cross
+from imunav.motion.base import BaseMotion
+from imunav.sensors.simulate import simulate_imu
+from imunav.strapdown import highorder
+from imunav.strapdown.registry import ALGORITHMS, navigate
+from imunav.strapdown.scan import cumulative_product
 
 
 def run_family(motion: BaseMotion, rate: float, duration: float | None = None,
@@ -25,7 +29,7 @@ def run_family(motion: BaseMotion, rate: float, duration: float | None = None,
     rows = []
     for kind in kinds:
         sig = simulate_imu(motion, rate, duration, output=kind)
-        q0, v0, p0 = _initial(motion, sig)
+        q0, v0, p0 = initial_state(motion, sig)
         for name, algo in ALGORITHMS[kind].items():
             if algorithms and name not in algorithms:
                 continue
@@ -54,7 +58,7 @@ def convergence(motion: BaseMotion, rates, kind: str, algorithms=None,
         errs = []
         for r in rates:
             sig = sigs[r]
-            e = nav_errors(navigate(sig, *_initial(motion, sig), algorithm=name), motion)
+            e = nav_errors(navigate(sig, *initial_state(motion, sig), algorithm=name), motion)
             errs.append((e.attitude.max(), e.velocity.max(), e.position.max()))
         errs = np.array(errs)
         steps = [1 / r for r in rates]
@@ -91,19 +95,14 @@ def poly_sweep(motion: BaseMotion, rate: float, configs, duration: float | None 
     Cost is counted as rate evaluations of the fitted polynomial per interval for the
     attitude (``nsub × order/2``), a machine-independent measure; wall time is also given.
     """
-    from imunav import highorder
-    from imunav.rotations import _angle
-    from imunav.strapdown import cumulative_product
-
     sig = simulate_imu(motion, rate, duration, output="increments")
-    q0, v0, p0 = _initial(motion, sig)
-    t = np.concatenate([[sig.t[0] - sig.dt], sig.t])
-    qt = motion.attitude(t)
+    q0, v0, p0 = initial_state(motion, sig)
+    qt = motion.attitude(sig.state_times())
     rows = []
     for m, order, nsub in configs:
         def attitude(m=m, order=order, nsub=nsub):
-            fit = highorder.LocalFit(sig.gyro, "increments", sig.dt, m)
-            return cumulative_product(q0, highorder.rotation_vectors(fit, order, nsub))
+            fit = highorder.LocalFit(sig.dtheta, "increments", sig.dt, m)
+            return cumulative_product(q0, highorder.interval_quaternions(fit, order, nsub))
 
         attitude()                       # the tap weights are computed once per process
         t0 = time.perf_counter()
@@ -115,56 +114,17 @@ def poly_sweep(motion: BaseMotion, rate: float, configs, duration: float | None 
     return rows
 
 
-def plot_error_vs_time(motion: BaseMotion, rate: float, names, duration: float | None = None,
-                       ax=None):
-    """Attitude error (deg, log scale) vs time for ``names`` = [(kind, algorithm), …]."""
-    import matplotlib.pyplot as plt
-
-    ax = ax or plt.figure(figsize=(8, 4)).add_subplot()
-    for kind, name in names:
-        sig = simulate_imu(motion, rate, duration, output=kind)
-        e = nav_errors(navigate(sig, *_initial(motion, sig), algorithm=name), motion)
-        ax.semilogy(e.t[1:], np.maximum(np.degrees(e.attitude[1:]), 1e-16),
-                    label=f"{kind}/{name}")
-    ax.set(xlabel="t (s)", ylabel="attitude error (deg)",
-           title=f"{getattr(motion, 'name', 'motion')} at {rate:g} Hz")
-    ax.legend(fontsize=7, ncol=2)
-    return ax
-
-
-def plot_convergence(rows: list[dict], ax=None, key: str = "max_att_rad"):
-    """Log–log maximum error vs rate with a dotted reference line of each documented order."""
-    import matplotlib.pyplot as plt
-
-    ax = ax or plt.figure(figsize=(7, 5)).add_subplot()
-    for i, r in enumerate(rows):
-        rates = np.asarray(r["rates"], float)
-        e = np.asarray(r[key])
-        if key == "max_att_rad":
-            e = np.degrees(e)
-        line, = ax.loglog(rates, e, "o-", color=f"C{i % 10}",
-                          label=f"{r['kind']}/{r['algorithm']} ({r['order_att']:.1f})")
-        p = r["documented"][0]
-        ax.loglog(rates, e[0] * (rates / rates[0]) ** (-p), ":", color=line.get_color(), lw=1)
-    ax.set(xlabel="sample rate (Hz)", ylabel="max attitude error (deg)",
-           title="convergence (dotted: documented order)")
-    ax.legend(fontsize=7)
-    return ax
-
-
 def coning_correction_budget(motion: BaseMotion, rate: float, duration: float | None = None
                              ) -> dict:
     """Why exact increments need the coning term: the attitude error of ``q ⊗ exp(Δθ)`` vs the
     accumulated two-sample coning terms Σ Δθ_{k−1}×Δθ_k / 12 (both in rad, body frame)."""
-    from imunav.rotations import _angle
-
     sig = simulate_imu(motion, rate, duration, output="increments")
-    q0, v0, p0 = _initial(motion, sig)
+    q0, v0, p0 = initial_state(motion, sig)
     nav = navigate(sig, q0, v0, p0, algorithm="exact_exponential")
-    th = sig.gyro
-    corr = np.cross(th[:-1], th[1:]) / 12
+    th = sig.dtheta
+    corr = _cross(th[:-1], th[1:]) / 12
     rates = simulate_imu(motion, rate, duration, output="rates")
-    nr = navigate(rates, *_initial(motion, rates), algorithm="exact_exponential")
+    nr = navigate(rates, *initial_state(motion, rates), algorithm="exact_exponential")
     return {
         "exact_exponential_increments_rad": float(_angle(nav.quaternion[-1],
                                                          motion.attitude(nav.t[-1:])[0])),

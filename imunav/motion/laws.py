@@ -24,6 +24,8 @@ instead of computing a 370-million-digit integer). A law whose constants are com
 at some times is caught when it is evaluated (see :func:`evaluate`).
 
 SymPy expressions given directly (Python API) pass the same whitelist of node types.
+
+May import: ``imunav.core``.
 """
 
 from __future__ import annotations
@@ -35,7 +37,7 @@ import numbers
 import numpy as np
 import sympy as sp
 
-from imunav.errors import ImunavError
+from imunav.core.validation import ImunavError
 
 #: The time symbol of every law.
 T = sp.Symbol("t", real=True)

@@ -1,4 +1,5 @@
-"""The vectorised fast path against the plain one-sample-at-a-time loops of imunav.reference.
+"""The vectorised fast path against the plain one-sample-at-a-time loops of
+imunav.strapdown.reference.
 
 Sizes are chosen to exercise the sequential short path, several cache chunks, padded last
 blocks and the recursive scan of block totals (chunk and block sizes are shrunk so that short
@@ -8,18 +9,17 @@ inputs reach every branch).
 import numpy as np
 import pytest
 
-from imunav import reference, strapdown
-from imunav.errors import ImunavError
-from imunav.rotations import _exp, _mul, quat_normalize
-from imunav.simulate import ImuSignals
-from imunav.strapdown import cumulative_product, exp_product, navigate
+from imunav.core.rotations import _exp, _mul, quat_normalize
+from imunav.core.validation import ImunavError
+from imunav.sensors.signals import ImuSignals
+from imunav.strapdown import cumulative_product, exp_product, navigate, reference, scan
 
 
 @pytest.fixture(params=[(1 << 15, 16), (64, 4), (48, 3)], ids=["default", "small", "odd"])
 def scan_sizes(request, monkeypatch):
     chunk, leaf = request.param
-    monkeypatch.setattr(strapdown, "_SCAN_CHUNK", chunk)
-    monkeypatch.setattr(strapdown, "_SCAN_LEAF", leaf)
+    monkeypatch.setattr(scan, "_SCAN_CHUNK", chunk)
+    monkeypatch.setattr(scan, "_SCAN_LEAF", leaf)
     return request.param
 
 
@@ -107,8 +107,8 @@ def test_chain_shapes_are_checked():
 
 @pytest.mark.parametrize("chunk", [1 << 15, 100, 7])
 def test_default_poly_navigation_matches_reference_loop(rng, monkeypatch, chunk):
-    from imunav import highorder
-    from imunav.highorder import _GQ_W, _GQ_X, reference_tables
+    from imunav.strapdown import highorder
+    from imunav.strapdown.highorder import _GQ_W, _GQ_X, reference_tables
 
     monkeypatch.setattr(highorder, "_POLY_CHUNK", chunk)
     h, g, dth, dv, q, v, p = _smooth_case(1500)

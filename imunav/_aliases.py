@@ -1,0 +1,69 @@
+"""Deprecated module names, kept for one release after the restructuring of 0.2.
+
+``import imunav.assess`` (and the other former flat modules) still works: a meta-path finder
+builds a module of that name holding the public names of the modules that replaced it, and
+issues a :class:`DeprecationWarning` naming them. Remove this file in 0.3.
+
+May import: anything in imunav (only when an old name is imported).
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.abc
+import importlib.machinery
+import sys
+import warnings
+
+#: old module → (new modules whose names it holds, {old name: "module:new name"}).
+ALIASES: dict[str, tuple[tuple[str, ...], dict[str, str]]] = {
+    "imunav.errors": (("imunav.core.validation",), {}),
+    "imunav.rotations": (("imunav.core.rotations",), {}),
+    "imunav.units": (("imunav.core.units",), {}),
+    "imunav.simulate": (("imunav.sensors.simulate", "imunav.sensors.signals"),
+                        {"TruthStates": "imunav.core.states:States", "G0": "imunav.core.constants:G0"}),
+    "imunav.assess": (("imunav.analysis.metrics",), {}),
+    "imunav.benchmarks": (("imunav.motion.catalog", "imunav.motion.quaternion_law"), {}),
+    "imunav.family": (("imunav.analysis.family", "imunav.plotting"), {}),
+    "imunav.montecarlo": (("imunav.analysis.montecarlo", "imunav.analysis.assessment",
+                           "imunav.plotting"), {"write_json": "imunav.io.files:write_json"}),
+    "imunav.realdata": (("imunav.io.realdata",), {}),
+    "imunav.presets": (("imunav.sensors.presets",), {}),
+    "imunav.highorder": (("imunav.strapdown.highorder",),
+                         {"rotation_vectors": "imunav.strapdown.highorder:interval_quaternions"}),
+    "imunav.reference": (("imunav.strapdown.reference",), {}),
+    "imunav.quickstart": (("imunav.analysis.roundtrip", "imunav.plotting"),
+                          {"run": "imunav.analysis.roundtrip:round_trip",
+                           "QuickstartRun": "imunav.analysis.roundtrip:RoundTrip",
+                           "quickstart_motion": "imunav.motion.catalog:figure_eight"}),
+}
+
+
+class _Loader(importlib.abc.Loader):
+    def __init__(self, targets, renamed):
+        self.targets, self.renamed = targets, renamed
+
+    def create_module(self, spec):
+        return None
+
+    def exec_module(self, module):
+        warnings.warn(f"{module.__name__} is deprecated and will be removed in imunav 0.3; use "
+                      f"{', '.join(self.targets)}", DeprecationWarning, stacklevel=2)
+        for name in self.targets:
+            m = importlib.import_module(name)
+            module.__dict__.update({k: v for k, v in vars(m).items() if not k.startswith("__")})
+        for old, where in self.renamed.items():
+            mod, _, new = where.partition(":")
+            module.__dict__[old] = getattr(importlib.import_module(mod), new)
+
+
+class _Finder(importlib.abc.MetaPathFinder):
+    def find_spec(self, fullname, path, target=None):
+        if fullname not in ALIASES:
+            return None
+        return importlib.machinery.ModuleSpec(fullname, _Loader(*ALIASES[fullname]))
+
+
+def install() -> None:
+    if not any(isinstance(f, _Finder) for f in sys.meta_path):
+        sys.meta_path.append(_Finder())

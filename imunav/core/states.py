@@ -1,0 +1,60 @@
+"""The one state type: position, velocity and attitude at times ``t``.
+
+:class:`States` holds the true states of a motion, the output of a navigation run and the rows
+of a truth/navigation CSV alike (``imunav.io`` reads and writes it). ``NavResult`` and
+``TruthStates`` are its former names.
+
+May import: ``imunav.core.rotations``, ``imunav.core.validation``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from imunav.core.rotations import FloatArray, quat_to_euler
+from imunav.core.validation import ImunavError
+
+
+@dataclass
+class States:
+    """States at times ``t_k``, k = 0..N-1.
+
+    Attributes
+    ----------
+    t : ndarray, shape (N,)
+        Times (s).
+    position : ndarray, shape (N, 3)
+        ``r_n`` (m), NED.
+    velocity : ndarray, shape (N, 3)
+        ``v_n`` (m/s), NED.
+    quaternion : ndarray, shape (N, 4)
+        ``q_nb``, scalar first.
+    algorithm : str, optional
+        For navigation results, the strapdown algorithm that produced them; None for truth.
+    """
+
+    t: FloatArray
+    position: FloatArray
+    velocity: FloatArray
+    quaternion: FloatArray
+    algorithm: str | None = None
+
+    def __post_init__(self):
+        n = np.shape(self.t)[0] if np.ndim(self.t) else None
+        for name, last in (("position", 3), ("velocity", 3), ("quaternion", 4)):
+            shape = np.shape(getattr(self, name))
+            if n is None or shape[:1] != (n,) or shape[-1:] != (last,):
+                raise ImunavError(f"{name} must have shape ({n}, {last}) to match t, got {shape}")
+
+    def __len__(self) -> int:
+        return int(np.shape(self.t)[0])
+
+    def euler(self) -> FloatArray:
+        """``[yaw, pitch, roll]`` (rad) of the attitude."""
+        return quat_to_euler(self.quaternion)
+
+    def initial(self) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """``(q0, v0, p0)``: the first row, as navigation takes it."""
+        return self.quaternion[0], self.velocity[0], self.position[0]

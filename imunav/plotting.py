@@ -1,0 +1,128 @@
+"""Plot functions behind the notebooks and ``imunav reproduce`` (general ones; each paper module
+draws its own figures). Each takes computed results and an optional axes/figure, draws, and
+returns it; nothing here computes what the analysis layer already does.
+
+May import: anything in imunav but the papers and the faces; matplotlib (imported lazily).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from imunav.analysis.montecarlo import MonteCarloResult
+from imunav.analysis.roundtrip import RoundTrip, round_trip
+from imunav.motion.base import BaseMotion
+
+# ------------------------------------------------------------ round trips
+
+def plot_run(res: RoundTrip, fig=None):
+    """Truth vs restored trajectory (plan and height) and the errors vs time."""
+    import matplotlib.pyplot as plt
+
+    fig = fig or plt.figure(figsize=(11, 7))
+    t = res.nav.t
+    tp = res.motion.position(t)
+    ax1 = fig.add_subplot(2, 2, 1)
+    ax1.plot(tp[:, 1], tp[:, 0], "k-", lw=3, alpha=0.35, label="truth")
+    ax1.plot(res.nav.position[:, 1], res.nav.position[:, 0], "C3--", lw=1.2, label="restored")
+    ax1.set(xlabel="east y (m)", ylabel="north x (m)", title="plan view")
+    ax1.set_aspect("equal", adjustable="datalim")
+    ax1.legend()
+    ax2 = fig.add_subplot(2, 2, 2)
+    ax2.plot(t, -tp[:, 2], "k-", lw=3, alpha=0.35, label="truth")
+    ax2.plot(t, -res.nav.position[:, 2], "C3--", lw=1.2, label="restored")
+    ax2.set(xlabel="t (s)", ylabel="height −z (m)", title="height")
+    ax2.legend()
+    e = res.errors
+    ax3 = fig.add_subplot(2, 2, 3)
+    ax3.semilogy(t[1:], np.maximum(e.position[1:], 1e-16), label="position (m)")
+    ax3.semilogy(t[1:], np.maximum(e.velocity[1:], 1e-16), label="velocity (m/s)")
+    ax3.set(xlabel="t (s)", title="error norm")
+    ax3.legend()
+    ax4 = fig.add_subplot(2, 2, 4)
+    ax4.semilogy(t[1:], np.maximum(np.degrees(e.attitude[1:]), 1e-16))
+    ax4.set(xlabel="t (s)", ylabel="deg", title="attitude error angle")
+    fig.suptitle(f"{res.signals.kind} at {res.signals.rate:g} Hz, algorithm {res.nav.algorithm}")
+    fig.tight_layout()
+    return fig
+
+
+def plot_error_vs_rate(rows: list[dict], rates=(50, 100, 200, 400), fig=None):
+    """Log–log maximum position and attitude error vs rate for every algorithm."""
+    import matplotlib.pyplot as plt
+
+    fig = fig or plt.figure(figsize=(11, 4))
+    axp = fig.add_subplot(1, 2, 1)
+    axa = fig.add_subplot(1, 2, 2)
+    for row in rows:
+        lab = f"{row['kind']}/{row['algorithm']}"
+        ls = "-" if row["kind"] == "increments" else "--"
+        op = "—" if row["order_pos"] is None else f"{row['order_pos']:.1f}"
+        oa = "—" if row["order_att"] is None else f"{row['order_att']:.1f}"
+        axp.loglog(rates, [row[f"pos_{r}"] for r in rates], ls, marker="o",
+                   label=f"{lab} (order {op})")
+        axa.loglog(rates, [np.degrees(row[f"att_{r}"]) for r in rates], ls, marker="o",
+                   label=f"{lab} (order {oa})")
+    axp.set(xlabel="sample rate (Hz)", ylabel="max position error (m)")
+    axa.set(xlabel="sample rate (Hz)", ylabel="max attitude error (deg)")
+    axp.legend(fontsize=7)
+    axa.legend(fontsize=7)
+    fig.tight_layout()
+    return fig
+
+
+# ------------------------------------------------------------ algorithm family
+
+def plot_error_vs_time(motion: BaseMotion, rate: float, names, duration: float | None = None,
+                       ax=None):
+    """Attitude error (deg, log scale) vs time for ``names`` = [(kind, algorithm), …]."""
+    import matplotlib.pyplot as plt
+
+    ax = ax or plt.figure(figsize=(8, 4)).add_subplot()
+    for kind, name in names:
+        e = round_trip(motion, rate, kind, name, duration).errors
+        ax.semilogy(e.t[1:], np.maximum(np.degrees(e.attitude[1:]), 1e-16),
+                    label=f"{kind}/{name}")
+    ax.set(xlabel="t (s)", ylabel="attitude error (deg)",
+           title=f"{getattr(motion, 'name', 'motion')} at {rate:g} Hz")
+    ax.legend(fontsize=7, ncol=2)
+    return ax
+
+
+def plot_convergence(rows: list[dict], ax=None, key: str = "max_att_rad"):
+    """Log–log maximum error vs rate with a dotted reference line of each documented order."""
+    import matplotlib.pyplot as plt
+
+    ax = ax or plt.figure(figsize=(7, 5)).add_subplot()
+    for i, r in enumerate(rows):
+        rates = np.asarray(r["rates"], float)
+        e = np.asarray(r[key])
+        if key == "max_att_rad":
+            e = np.degrees(e)
+        line, = ax.loglog(rates, e, "o-", color=f"C{i % 10}",
+                          label=f"{r['kind']}/{r['algorithm']} ({r['order_att']:.1f})")
+        p = r["documented"][0]
+        ax.loglog(rates, e[0] * (rates / rates[0]) ** (-p), ":", color=line.get_color(), lw=1)
+    ax.set(xlabel="sample rate (Hz)", ylabel="max attitude error (deg)",
+           title="convergence (dotted: documented order)")
+    ax.legend(fontsize=7)
+    return ax
+
+
+# ------------------------------------------------------------ Monte Carlo
+
+def plot_envelope(mc: MonteCarloResult, tolerance: float | None = None, ax=None, label=None):
+    """Median, 68 % and 95 % envelopes of the position error vs time."""
+    import matplotlib.pyplot as plt
+
+    ax = ax or plt.figure(figsize=(8, 4)).add_subplot()
+    env = mc.envelope()
+    lab = label or mc.model
+    ax.fill_between(mc.t, 0, env[95], alpha=0.2, label=f"{lab}: 95 %")
+    ax.fill_between(mc.t, 0, env[68], alpha=0.3, label=f"{lab}: 68 %")
+    ax.plot(mc.t, env[50], lw=1.5, label=f"{lab}: median")
+    if tolerance:
+        ax.axhline(tolerance, color="k", ls="--", lw=1, label="tolerance")
+    ax.set(xlabel="t (s)", ylabel="position error (m)", title=f"{mc.runs} runs at {mc.rate:g} Hz")
+    ax.legend(fontsize=7)
+    return ax

@@ -1,0 +1,27 @@
+"""Layer 2 — sensors and simulation: what an IMU outputs on a motion, ideal or with datasheet
+errors.
+
+Modules: :mod:`~imunav.sensors.signals` (:class:`ImuSignals`), :mod:`~imunav.sensors.simulate`
+(ideal rates and exact increments), :mod:`~imunav.sensors.models` (error models from
+datasheets), :mod:`~imunav.sensors.presets`, :mod:`~imunav.sensors.allan`.
+
+May import: ``imunav.core``, ``imunav.motion``.
+"""
+
+from imunav.sensors.allan import allan_deviation, gauss_markov_allan_variance
+from imunav.sensors.models import (
+    ImuModel,
+    TriadModel,
+    apply_triad,
+    bias_instability_sigma,
+    error_processes,
+    measure,
+)
+from imunav.sensors.presets import PRESETS
+from imunav.sensors.signals import KINDS, ImuSignals
+from imunav.sensors.simulate import integrate_intervals, sample_times, simulate_imu, truth_states
+
+__all__ = ["KINDS", "PRESETS", "ImuModel", "ImuSignals", "TriadModel", "allan_deviation",
+           "apply_triad", "bias_instability_sigma", "error_processes",
+           "gauss_markov_allan_variance", "integrate_intervals", "measure", "sample_times",
+           "simulate_imu", "truth_states"]

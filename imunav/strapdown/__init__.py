@@ -1,0 +1,28 @@
+"""Layer 3 — strapdown integration: attitude, velocity and position from rates or increments.
+
+Modules: :mod:`~imunav.strapdown.scan` (the blocked quaternion scan kernels),
+:mod:`~imunav.strapdown.classic` (textbook, coning/sculling and multi-sample algorithms),
+:mod:`~imunav.strapdown.highorder` (local polynomial fits + Magnus), :mod:`~imunav.strapdown.reference`
+(plain loops: test oracles and the compiled benchmark baseline), :mod:`~imunav.strapdown.alignment`
+(levelling and static biases), :mod:`~imunav.strapdown.registry` (:data:`ALGORITHMS`,
+:func:`navigate`).
+
+May import: ``imunav.core``, ``imunav.sensors.signals``.
+"""
+
+from imunav.core.states import States
+from imunav.strapdown.registry import (
+    ALGORITHMS,
+    DEFAULT_ALGORITHM,
+    Algorithm,
+    navigate,
+    navigate_batch,
+    resolve,
+)
+from imunav.strapdown.scan import cumulative_product, exp_product, prefix_product
+
+#: Former name of :class:`~imunav.core.states.States` for navigation output (kept as an alias).
+NavResult = States
+
+__all__ = ["ALGORITHMS", "DEFAULT_ALGORITHM", "Algorithm", "NavResult", "cumulative_product",
+           "exp_product", "navigate", "navigate_batch", "prefix_product", "resolve"]

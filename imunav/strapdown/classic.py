@@ -1,0 +1,163 @@
+"""The classic strapdown algorithms: textbook first-order and exponential updates on rates, and
+on increments the exponential, the two-sample coning/sculling form and the multi-sample
+rotation-vector algorithms (Ignagni, Miller).
+
+Every function has the registry's signature ``f(gyro, accel, h, q0, v0, p0, g) → (q, v, p)``:
+``gyro``/``accel`` (N, 3) or (N, R, 3) for R runs at once (with ``q0`` (R, 4), ``v0``/``p0``
+(R, 3)); the outputs have N+1 rows (rates: N samples give N−1 intervals and N states). Inputs
+are already checked by :func:`imunav.strapdown.registry.navigate`.
+
+The navigation frame is flat, non-rotating NED with constant gravity ``g_n = [0, 0, +g]``:
+``q̇_nb = ½ q_nb ⊗ [0, ω_b]``, ``v̇_n = C_nb f_b + g_n``, ``ṙ_n = v_n``.
+
+May import: ``imunav.core``, ``imunav.strapdown.scan``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from imunav.core.rotations import FloatArray, _cross, _exp, _mul, _rotate
+from imunav.strapdown.scan import cumulative_product, exp_product
+
+
+def _gravity(g: float) -> FloatArray:
+    return np.array([0.0, 0.0, g])
+
+
+def _pairs(x: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Neighbour pairs for two-sample corrections: (x_{k−1}, x_k) for k ≥ 1, (x_0, x_1) at k = 0.
+
+    For a rate linear in time across the two intervals both pairs give the same correction,
+    so the first interval uses the next one instead of a missing previous one.
+    """
+    if x.shape[0] < 2:
+        return np.zeros_like(x), np.zeros_like(x)
+    prev = np.concatenate([x[:1], x[:-1]])
+    cur = np.concatenate([x[1:2], x[1:]])
+    return prev, cur
+
+
+def accumulate(v0: FloatArray, p0: FloatArray, dv: FloatArray, dp_extra: FloatArray,
+               h: float) -> tuple[FloatArray, FloatArray]:
+    """``v_k = v_{k−1} + dv_k``, ``p_k = p_{k−1} + h v_{k−1} + dp_extra_k`` (navigation frame)."""
+    v = np.concatenate([v0[None], v0 + np.cumsum(dv, axis=0)])
+    dp = h * v[:-1] + dp_extra
+    p = np.concatenate([p0[None], p0 + np.cumsum(dp, axis=0)])
+    return v, p
+
+
+# --------------------------------------------------------------------------- rate algorithms
+
+def _rates_trapezoid_nav(accel, h, q, v0, p0, g):
+    # v_k = v_{k−1} + h/2 (a_{k−1} + a_k); p exact for a linear in time.
+    a = _rotate(q, accel) + _gravity(g)
+    dv = h / 2 * (a[:-1] + a[1:])
+    dp_extra = h * h / 6 * (2 * a[:-1] + a[1:])
+    return accumulate(v0, p0, dv, dp_extra, h)
+
+
+def rates_first_order(gyro, accel, h, q0, v0, p0, g):
+    """``q ← normalise(q + ½ q⊗ω_{k−1} h)``; trapezoidal velocity."""
+    w = gyro[:-1]
+    dq = np.concatenate([np.ones(w.shape[:-1] + (1,)), 0.5 * h * w], axis=-1)
+    dq /= np.linalg.norm(dq, axis=-1, keepdims=True)
+    q = cumulative_product(q0, dq)
+    v, p = _rates_trapezoid_nav(accel, h, q, v0, p0, g)
+    return q, v, p
+
+
+def rates_exponential(gyro, accel, h, q0, v0, p0, g):
+    """``q ← q ⊗ exp(h (ω_{k−1} + ω_k)/2)``; trapezoidal velocity."""
+    q = exp_product(q0, 0.5 * h * (gyro[:-1] + gyro[1:]))
+    v, p = _rates_trapezoid_nav(accel, h, q, v0, p0, g)
+    return q, v, p
+
+
+# ---------------------------------------------------------------------- increment algorithms
+
+def _inc_velocity(dth, dv, h, q, v0, p0, g, sculling: bool):
+    """Velocity from Δv with rotation compensation (½ Δθ×Δv) and optional two-sample
+    sculling (1/12 (Δθ_{k−1}×Δv_k + Δv_{k−1}×Δθ_k)); position by the trapezoid rule."""
+    body = dv + 0.5 * _cross(dth, dv)
+    if sculling:
+        tp, tc = _pairs(dth)
+        vp, vc = _pairs(dv)
+        body = body + (_cross(tp, vc) + _cross(vp, tc)) / 12
+    dvn = _rotate(q[:-1], body) + _gravity(g * h)
+    return accumulate(v0, p0, dvn, 0.5 * h * dvn, h)
+
+
+def increments_first_order(dth, dv, h, q0, v0, p0, g):
+    """``q ← normalise(q ⊗ [1, Δθ/2])``; Δv with rotation compensation, no sculling."""
+    dq = np.concatenate([np.ones(dth.shape[:-1] + (1,)), 0.5 * dth], axis=-1)
+    q = cumulative_product(q0, dq / np.linalg.norm(dq, axis=-1, keepdims=True))
+    v, p = _inc_velocity(dth, dv, h, q, v0, p0, g, sculling=False)
+    return q, v, p
+
+
+def increments_exponential(dth, dv, h, q0, v0, p0, g):
+    """``q ← q ⊗ exp(Δθ)``; no coning or sculling correction."""
+    q = exp_product(q0, dth)
+    v, p = _inc_velocity(dth, dv, h, q, v0, p0, g, sculling=False)
+    return q, v, p
+
+
+def increments_coning2(dth, dv, h, q0, v0, p0, g):
+    """``φ = Δθ_k + Δθ_{k−1}×Δθ_k/12``, two-sample sculling and rotation compensation."""
+    prev, cur = _pairs(dth)
+    q = exp_product(q0, dth + _cross(prev, cur) / 12)
+    v, p = _inc_velocity(dth, dv, h, q, v0, p0, g, sculling=True)
+    return q, v, p
+
+
+#: N-sample coning corrections δφ = Σ c_ij θ_i × θ_j over a major interval of N increments.
+#: Ignagni 1990 (J. Guid. Control Dyn. 13(2)); Miller 1983 (6(4)); Savage 1998 table.
+CONING_FAMILIES = {
+    "ignagni2": (2, {(0, 1): 2 / 3}),
+    "miller3": (3, {(0, 2): 33 / 80, (1, 2): 57 / 80, (0, 1): 57 / 80}),
+    "ignagni3": (3, {(0, 2): 9 / 20, (1, 2): 27 / 40, (0, 1): 27 / 40}),
+    "ignagni4": (4, {(0, 1): 736 / 945, (2, 3): 736 / 945, (0, 2): 334 / 945,
+                     (1, 3): 334 / 945, (0, 3): 526 / 945, (1, 2): 654 / 945}),
+}
+
+
+def multisample(name: str):
+    """N-sample rotation-vector algorithm ``name`` of :data:`CONING_FAMILIES`: the attitude is
+    updated once per N increments with φ = Σθ_i + Σ c_ij θ_i×θ_j (Plaksiy & Homozkova's eq. (2)
+    θ₂×(θ₃−θ₁) written as θ₁×θ₂ + θ₂×θ₃). Between major updates (and for a trailing partial
+    group) q = q_major ⊗ exp(Σθ + ½ Σ_{a<b} θ_a×θ_b), the second-order product of the
+    exponentials."""
+    n, coef = CONING_FAMILIES[name]
+
+    def run(th, dv, h, q0, v0, p0, g):
+        N = th.shape[0]
+        rest = th.shape[1:]
+        groups = N // n
+        phi = np.zeros((groups,) + rest)
+        if groups:
+            t = th[: groups * n].reshape((groups, n) + rest)
+            phi = t.sum(axis=1)
+            for (i, j), c in coef.items():
+                phi = phi + c * _cross(t[:, i], t[:, j])
+        qm = exp_product(q0, phi)                             # at every n-th sample
+        k = np.arange(1, N + 1)
+        base = (k - 1) // n                                   # index of the major attitude
+        first = base * n                                      # first increment of the group
+        cs = np.cumsum(th, axis=0)
+        csum0 = np.concatenate([np.zeros((1,) + rest), cs])
+        part = cs - csum0[first]                              # Σθ within the group so far
+        # ½ Σ_{a<b} θ_a × θ_b = ½ Σ_b (Σ_{a<b} θ_a) × θ_b
+        prev_in_group = csum0[:-1] - csum0[first]
+        crs = np.cumsum(_cross(prev_in_group, th) / 2, axis=0)
+        crs0 = np.concatenate([np.zeros((1,) + rest), crs])
+        part2 = crs - crs0[first]
+        q = _mul(qm[base], _exp(part + part2))
+        full = k % n == 0
+        q[full] = qm[k[full] // n]
+        q = np.concatenate([qm[:1], q])
+        v, p = _inc_velocity(th, dv, h, q, v0, p0, g, sculling=True)
+        return q, v, p
+
+    run.__name__ = name
+    return run

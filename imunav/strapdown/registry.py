@@ -1,0 +1,201 @@
+"""The algorithm registry and the one entry point that navigates: :func:`navigate` (one run, an
+:class:`~imunav.sensors.signals.ImuSignals`) and :func:`navigate_batch` (many runs at once,
+as Monte Carlo uses it).
+
+Every algorithm is a row of :data:`ALGORITHMS` with its signal kind, its order (the measured
+global convergence order of the attitude, velocity and position errors on smooth motion — see
+``tests/test_strapdown.py``), its source and whether it is causal. :data:`DEFAULT_ALGORITHM`
+names the most accurate one per kind; every caller that does not choose goes through it.
+
+May import: ``imunav.core``, ``imunav.sensors.signals``, ``imunav.strapdown`` modules below.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from imunav.core.constants import G0
+from imunav.core.rotations import FloatArray, quat_normalize
+from imunav.core.states import States
+from imunav.core.validation import ImunavError, as_float_array, check_gravity, check_positive
+from imunav.sensors.signals import KINDS, ImuSignals
+from imunav.strapdown import classic
+from imunav.strapdown.highorder import navigate_poly
+
+__all__ = ["ALGORITHMS", "Algorithm", "DEFAULT_ALGORITHM", "navigate", "navigate_batch",
+           "resolve"]
+
+
+@dataclass(frozen=True)
+class Algorithm:
+    """One strapdown algorithm.
+
+    ``order`` is the global convergence order ``(attitude, velocity, position)`` on smooth
+    motion; ``func(gyro, accel, h, q0, v0, p0, g) → (q, v, p)`` integrates N samples (rates) or
+    N increments, for one run ((N, 3) inputs) or R runs at once ((N, R, 3)). ``causal``: the
+    state at ``t_k`` uses no sample after ``t_k`` (real-time capable; multi-sample algorithms
+    update once per major interval).
+    """
+
+    name: str
+    kind: str
+    order: tuple[int, int, int]
+    summary: str
+    source: str
+    func: Callable
+    causal: bool = True
+
+    @property
+    def min_samples(self) -> int:
+        """Fewest samples it integrates: two rate samples (one interval) or one increment."""
+        return 2 if self.kind == "rates" else 1
+
+
+def _poly(kind: str, m: int, order: int) -> Callable:
+    """A high-order offline algorithm: local m-node fit + Magnus-``order`` (strapdown.highorder)."""
+    def run(gyro, accel, h, q0, v0, p0, g):
+        return navigate_poly(kind, gyro, accel, h, q0, v0, p0, g, m=m, order=order)
+
+    return run
+
+
+def _register(*algos: Algorithm) -> dict[str, dict[str, Algorithm]]:
+    reg: dict[str, dict[str, Algorithm]] = {k: {} for k in KINDS}
+    for a in algos:
+        reg[a.kind][a.name] = a
+    return reg
+
+
+#: ``ALGORITHMS[kind][name]`` → :class:`Algorithm`.
+ALGORITHMS = _register(
+    Algorithm("first_order", "rates", (1, 1, 1),
+              "q ← normalise(q + ½ q⊗ω_{k−1} h); trapezoidal velocity, position exact for "
+              "linear a_n", "textbook Poisson/quaternion update, e.g. Marusenkova 2020 eq. (15); "
+              "Madgwick's tutorial", classic.rates_first_order),
+    Algorithm("exact_exponential", "rates", (2, 2, 2),
+              "q ← q ⊗ exp(h (ω_{k−1}+ω_k)/2): exact for constant rate; trapezoidal velocity",
+              "Dickson & Rae 2021 (rotation quaternion from rates); Savage 1998",
+              classic.rates_exponential),
+    Algorithm("magnus4", "rates", (4, 4, 4),
+              "local cubic through 4 rate samples, one 2-node fourth-order Magnus step; "
+              "velocity/position by 3-point Gauss quadrature of C_nb f_b",
+              "Iserles & Nørsett 1999 (Magnus integrators); offline (uses the next sample)",
+              _poly("rates", 4, 4), causal=False),
+    Algorithm("magnus6", "rates", (6, 6, 6),
+              "local quintic through 6 rate samples, one 3-node sixth-order Magnus step; "
+              "velocity/position by 3-point Gauss quadrature of C_nb f_b",
+              "Blanes, Casas & Ros 2000 (sixth-order Magnus); offline (uses 3 later samples)",
+              _poly("rates", 6, 6), causal=False),
+    Algorithm("first_order", "increments", (2, 2, 2),
+              "q ← normalise(q ⊗ [1, Δθ/2]); Δv with rotation compensation, no sculling",
+              "textbook small-angle quaternion, Marusenkova 2020 eq. (25)",
+              classic.increments_first_order),
+    Algorithm("exact_exponential", "increments", (2, 2, 2),
+              "q ← q ⊗ exp(Δθ): exact for constant rate; no coning/sculling correction",
+              "Marusenkova 2020 eq. (36); Savage 1998", classic.increments_exponential),
+    Algorithm("coning2", "increments", (3, 2, 2),
+              "rotation vector φ = Δθ_k + Δθ_{k−1}×Δθ_k/12 (1+1 'previous interval' coning), "
+              "two-sample sculling and rotation compensation; trapezoidal position",
+              "Savage 1998 (J. Guid. Control Dyn. 21(1)), Titterton & Weston ch. 11",
+              classic.increments_coning2),
+    Algorithm("ignagni2", "increments", (3, 2, 2),
+              "2-sample rotation vector: θ₁+θ₂ + ⅔ θ₁×θ₂ per major interval of 2 increments",
+              "Ignagni 1990 (J. Guid. Control Dyn. 13(2)); causal", classic.multisample("ignagni2")),
+    Algorithm("miller3", "increments", (3, 2, 2),
+              "3-sample rotation vector, eq. (2) of Plaksiy & Homozkova with α=33/80, β=57/80",
+              "Miller 1983 (J. Guid. Control Dyn. 6(4)); causal", classic.multisample("miller3")),
+    Algorithm("ignagni3", "increments", (3, 2, 2),
+              "3-sample rotation vector optimised for coning: α=9/20, β=27/40",
+              "Ignagni 1990; causal", classic.multisample("ignagni3")),
+    Algorithm("ignagni4", "increments", (3, 2, 2),
+              "4-sample rotation vector optimised for coning (coefficients /945)",
+              "Ignagni 1990; Savage 1998 table 1; causal", classic.multisample("ignagni4")),
+    Algorithm("poly6_m4", "increments", (4, 4, 4),
+              "6-node fit of cumulative increments, one fourth-order Magnus step per interval; "
+              "Gauss quadrature of C_nb f_b for velocity/position",
+              "this work (local polynomial + Magnus, Iserles & Nørsett 1999); offline",
+              _poly("increments", 6, 4), causal=False),
+    Algorithm("poly8_m6", "increments", (6, 6, 6),
+              "8-node fit of cumulative increments, one sixth-order Magnus step per interval; "
+              "Gauss quadrature of C_nb f_b for velocity/position",
+              "this work (local polynomial + Blanes–Casas–Ros sixth-order Magnus); offline",
+              _poly("increments", 8, 6), causal=False),
+)
+
+#: The most accurate algorithm for each signal kind (used when none is named).
+DEFAULT_ALGORITHM = {"rates": "magnus6", "increments": "poly8_m6"}
+
+
+def resolve(kind: str, algorithm: str | None = None) -> Algorithm:
+    """The registry row for ``algorithm`` on ``kind`` signals (the default if None)."""
+    if kind not in KINDS:
+        raise ImunavError(f"kind must be one of {KINDS}, got {kind!r}")
+    name = algorithm or DEFAULT_ALGORITHM[kind]
+    table = ALGORITHMS[kind]
+    if name not in table:
+        raise ImunavError(
+            f"unknown algorithm {name!r} for {kind}; choose one of {', '.join(sorted(table))}")
+    return table[name]
+
+
+def navigate(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike = (0.0, 0.0, 0.0),
+             p0: npt.ArrayLike = (0.0, 0.0, 0.0), *, algorithm: str | None = None,
+             g: float | None = None) -> States:
+    """Integrate IMU signals from an initial state.
+
+    Parameters
+    ----------
+    signals : ImuSignals
+        Rates (``t_k``, k = 0..N) or increments (interval ends ``t_k``, k = 1..N).
+    q0 : array_like, shape (4,)
+        Initial attitude ``q_nb`` at the start time ``signals.t0``.
+    v0, p0 : array_like, shape (3,)
+        Initial velocity (m/s) and position (m), NED.
+    algorithm : str, optional
+        A name from ``ALGORITHMS[signals.kind]``; default the most accurate for the kind.
+    g : float, optional
+        Gravity magnitude (m/s²); default ``signals.g``.
+
+    Returns
+    -------
+    States
+        States at ``signals.state_times()`` (the first row is the initial state), with the
+        algorithm's name.
+    """
+    if not isinstance(signals, ImuSignals):
+        raise ImunavError(f"signals must be ImuSignals, got {type(signals).__name__}")
+    q0 = quat_normalize(as_float_array(q0, "q0", ndim=1, last=4))
+    v0 = as_float_array(v0, "v0", ndim=1, last=3)
+    p0 = as_float_array(p0, "p0", ndim=1, last=3)
+    g = signals.g if g is None else check_gravity(g)
+    algo = resolve(signals.kind, algorithm)
+    if len(signals) < algo.min_samples:
+        raise ImunavError(f"{signals.kind} signals need at least {algo.min_samples} samples, "
+                          f"got {len(signals)}")
+    q, v, p = algo.func(signals.gyro, signals.accel, signals.dt, q0, v0, p0, g)
+    return States(signals.state_times(), p, v, q, algo.name)
+
+
+def navigate_batch(kind: str, gyro: FloatArray, accel: FloatArray, rate: float,
+                   q0: npt.ArrayLike, v0: npt.ArrayLike, p0: npt.ArrayLike, g: float = G0, *,
+                   algorithm: str | None = None) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Integrate R runs at once: ``gyro``/``accel`` of shape (N, R, 3), from the same or per-run
+    initial states (``q0`` (4,) or (R, 4), ``v0``/``p0`` (3,) or (R, 3)). Returns ``(q, v, p)``
+    of shapes (N+1 or N, R, 4|3) as :func:`navigate` does for one run."""
+    algo = resolve(kind, algorithm)
+    gyro = as_float_array(gyro, "gyro", ndim=3, last=3)
+    accel = as_float_array(accel, "accel", ndim=3, last=3)
+    if accel.shape != gyro.shape:
+        raise ImunavError(f"accel must have the shape of gyro {gyro.shape}, got {accel.shape}")
+    if gyro.shape[0] < algo.min_samples:
+        raise ImunavError(f"{kind} signals need at least {algo.min_samples} samples")
+    R = gyro.shape[1]
+    q0 = np.broadcast_to(quat_normalize(as_float_array(q0, "q0", last=4)), (R, 4))
+    v0 = np.broadcast_to(as_float_array(v0, "v0", last=3), (R, 3))
+    p0 = np.broadcast_to(as_float_array(p0, "p0", last=3), (R, 3))
+    h = 1.0 / check_positive(rate, "rate")
+    return algo.func(gyro, accel, h, np.ascontiguousarray(q0), v0, p0, check_gravity(g))
