@@ -15,6 +15,7 @@ from imunav.strapdown.registry import (
     ALGORITHMS,
     DEFAULT_ALGORITHM,
     Algorithm,
+    StreamNavigator,
     navigate,
     navigate_batch,
     resolve,
@@ -24,5 +25,6 @@ from imunav.strapdown.scan import cumulative_product, exp_product, prefix_produc
 #: Former name of :class:`~imunav.core.states.States` for navigation output (kept as an alias).
 NavResult = States
 
-__all__ = ["ALGORITHMS", "DEFAULT_ALGORITHM", "Algorithm", "NavResult", "cumulative_product",
+__all__ = ["ALGORITHMS", "DEFAULT_ALGORITHM", "Algorithm", "NavResult", "StreamNavigator",
+           "cumulative_product",
            "exp_product", "navigate", "navigate_batch", "prefix_product", "resolve"]

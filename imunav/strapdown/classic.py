@@ -2,10 +2,14 @@
 on increments the exponential, the two-sample coning/sculling form and the multi-sample
 rotation-vector algorithms (Ignagni, Miller).
 
-Every function has the registry's signature ``f(gyro, accel, h, q0, v0, p0, g) → (q, v, p)``:
-``gyro``/``accel`` (N, 3) or (N, R, 3) for R runs at once (with ``q0`` (R, 4), ``v0``/``p0``
-(R, 3)); the outputs have N+1 rows (rates: N samples give N−1 intervals and N states). Inputs
-are already checked by :func:`imunav.strapdown.registry.navigate`.
+Every function has the registry's signature
+``f(gyro, accel, h, q0, v0, p0, g, first, count) → (q, v, p)``: ``gyro``/``accel`` are a window
+of samples, (M, 3) or (M, R, 3) for R runs at once (with ``q0`` (R, 4), ``v0``/``p0`` (R, 3));
+the function integrates the ``count`` intervals that start at interval ``first`` of the window
+(the samples around them are context, e.g. the previous increment of a two-sample correction)
+from the state ``(q0, v0, p0)`` at the start of interval ``first``, and returns ``count + 1``
+states. Interval k of rates lies between samples k and k+1; of increments, it is sample k.
+Inputs are already checked by :func:`imunav.strapdown.registry.navigate`.
 
 The navigation frame is flat, non-rotating NED with constant gravity ``g_n = [0, 0, +g]``:
 ``q̇_nb = ½ q_nb ⊗ [0, ω_b]``, ``v̇_n = C_nb f_b + g_n``, ``ṙ_n = v_n``.
@@ -57,9 +61,10 @@ def _rates_trapezoid_nav(accel, h, q, v0, p0, g):
     return accumulate(v0, p0, dv, dp_extra, h)
 
 
-def rates_first_order(gyro, accel, h, q0, v0, p0, g):
+def rates_first_order(gyro, accel, h, q0, v0, p0, g, first, count):
     """``q ← normalise(q + ½ q⊗ω_{k−1} h)``; trapezoidal velocity."""
-    w = gyro[:-1]
+    w = gyro[first:first + count]
+    accel = accel[first:first + count + 1]
     dq = np.concatenate([np.ones(w.shape[:-1] + (1,)), 0.5 * h * w], axis=-1)
     dq /= np.linalg.norm(dq, axis=-1, keepdims=True)
     q = cumulative_product(q0, dq)
@@ -67,8 +72,10 @@ def rates_first_order(gyro, accel, h, q0, v0, p0, g):
     return q, v, p
 
 
-def rates_exponential(gyro, accel, h, q0, v0, p0, g):
+def rates_exponential(gyro, accel, h, q0, v0, p0, g, first, count):
     """``q ← q ⊗ exp(h (ω_{k−1} + ω_k)/2)``; trapezoidal velocity."""
+    gyro = gyro[first:first + count + 1]
+    accel = accel[first:first + count + 1]
     q = exp_product(q0, 0.5 * h * (gyro[:-1] + gyro[1:]))
     v, p = _rates_trapezoid_nav(accel, h, q, v0, p0, g)
     return q, v, p
@@ -76,38 +83,43 @@ def rates_exponential(gyro, accel, h, q0, v0, p0, g):
 
 # ---------------------------------------------------------------------- increment algorithms
 
-def _inc_velocity(dth, dv, h, q, v0, p0, g, sculling: bool):
+def _inc_velocity(dth, dv, h, q, v0, p0, g, sculling: bool, first: int = 0):
     """Velocity from Δv with rotation compensation (½ Δθ×Δv) and optional two-sample
-    sculling (1/12 (Δθ_{k−1}×Δv_k + Δv_{k−1}×Δθ_k)); position by the trapezoid rule."""
-    body = dv + 0.5 * _cross(dth, dv)
+    sculling (1/12 (Δθ_{k−1}×Δv_k + Δv_{k−1}×Δθ_k)); position by the trapezoid rule. The
+    window's intervals ``first .. first + len(q) − 2`` are integrated (the pairs look back)."""
+    n = q.shape[0] - 1
+    body = dv[first:first + n] + 0.5 * _cross(dth[first:first + n], dv[first:first + n])
     if sculling:
-        tp, tc = _pairs(dth)
-        vp, vc = _pairs(dv)
-        body = body + (_cross(tp, vc) + _cross(vp, tc)) / 12
+        tp, tc = _pairs(dth[: first + n])
+        vp, vc = _pairs(dv[: first + n])
+        body = body + (_cross(tp[first:], vc[first:]) + _cross(vp[first:], tc[first:])) / 12
     dvn = _rotate(q[:-1], body) + _gravity(g * h)
     return accumulate(v0, p0, dvn, 0.5 * h * dvn, h)
 
 
-def increments_first_order(dth, dv, h, q0, v0, p0, g):
+def increments_first_order(dth, dv, h, q0, v0, p0, g, first, count):
     """``q ← normalise(q ⊗ [1, Δθ/2])``; Δv with rotation compensation, no sculling."""
+    dth, dv = dth[first:first + count], dv[first:first + count]
     dq = np.concatenate([np.ones(dth.shape[:-1] + (1,)), 0.5 * dth], axis=-1)
     q = cumulative_product(q0, dq / np.linalg.norm(dq, axis=-1, keepdims=True))
     v, p = _inc_velocity(dth, dv, h, q, v0, p0, g, sculling=False)
     return q, v, p
 
 
-def increments_exponential(dth, dv, h, q0, v0, p0, g):
+def increments_exponential(dth, dv, h, q0, v0, p0, g, first, count):
     """``q ← q ⊗ exp(Δθ)``; no coning or sculling correction."""
+    dth, dv = dth[first:first + count], dv[first:first + count]
     q = exp_product(q0, dth)
     v, p = _inc_velocity(dth, dv, h, q, v0, p0, g, sculling=False)
     return q, v, p
 
 
-def increments_coning2(dth, dv, h, q0, v0, p0, g):
+def increments_coning2(dth, dv, h, q0, v0, p0, g, first, count):
     """``φ = Δθ_k + Δθ_{k−1}×Δθ_k/12``, two-sample sculling and rotation compensation."""
+    dth, dv = dth[: first + count], dv[: first + count]
     prev, cur = _pairs(dth)
-    q = exp_product(q0, dth + _cross(prev, cur) / 12)
-    v, p = _inc_velocity(dth, dv, h, q, v0, p0, g, sculling=True)
+    q = exp_product(q0, (dth + _cross(prev, cur) / 12)[first:])
+    v, p = _inc_velocity(dth, dv, h, q, v0, p0, g, sculling=True, first=first)
     return q, v, p
 
 
@@ -130,7 +142,10 @@ def multisample(name: str):
     exponentials."""
     n, coef = CONING_FAMILIES[name]
 
-    def run(th, dv, h, q0, v0, p0, g):
+    def run(window_th, window_dv, h, q0, v0, p0, g, first, count):
+        # interval `first` of the window starts a major interval (the registry aligns chunks);
+        # the samples before it serve only the sculling term's look-back
+        th = window_th[first:first + count]
         N = th.shape[0]
         rest = th.shape[1:]
         groups = N // n
@@ -143,20 +158,21 @@ def multisample(name: str):
         qm = exp_product(q0, phi)                             # at every n-th sample
         k = np.arange(1, N + 1)
         base = (k - 1) // n                                   # index of the major attitude
-        first = base * n                                      # first increment of the group
+        start = base * n                                      # first increment of the group
         cs = np.cumsum(th, axis=0)
         csum0 = np.concatenate([np.zeros((1,) + rest), cs])
-        part = cs - csum0[first]                              # Σθ within the group so far
+        part = cs - csum0[start]                              # Σθ within the group so far
         # ½ Σ_{a<b} θ_a × θ_b = ½ Σ_b (Σ_{a<b} θ_a) × θ_b
-        prev_in_group = csum0[:-1] - csum0[first]
+        prev_in_group = csum0[:-1] - csum0[start]
         crs = np.cumsum(_cross(prev_in_group, th) / 2, axis=0)
         crs0 = np.concatenate([np.zeros((1,) + rest), crs])
-        part2 = crs - crs0[first]
+        part2 = crs - crs0[start]
         q = _mul(qm[base], _exp(part + part2))
         full = k % n == 0
         q[full] = qm[k[full] // n]
         q = np.concatenate([qm[:1], q])
-        v, p = _inc_velocity(th, dv, h, q, v0, p0, g, sculling=True)
+        v, p = _inc_velocity(window_th[:first + count], window_dv[:first + count], h, q, v0, p0,
+                             g, sculling=True, first=first)
         return q, v, p
 
     run.__name__ = name

@@ -198,17 +198,21 @@ _POLY_CHUNK = 1 << 15
 
 
 def navigate_poly(kind: str, gyro: FloatArray, accel: FloatArray, h: float, q0: FloatArray,
-                  v0: FloatArray, p0: FloatArray, g: float, *, m: int, order: int
+                  v0: FloatArray, p0: FloatArray, g: float, first: int = 0,
+                  count: int | None = None, *, m: int, order: int
                   ) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Attitude, velocity and position at every ``t_k`` (see the module docstring).
+    """Attitude, velocity and position at the ends of intervals ``first .. first + count − 1``
+    of a window of samples, from the state at the start of interval ``first`` (see the module
+    docstring; the samples around those intervals feed their stencils).
 
-    ``gyro``/``accel`` (N, 3), or (N, R, 3) for R runs at once with ``q0`` (R, 4). The
+    ``gyro``/``accel`` (M, 3), or (M, R, 3) for R runs at once with ``q0`` (R, 4). The
     per-interval work is done chunk by chunk so that temporaries stay small; the outputs and
     one rotation vector and two body-frame increments per interval are all that is stored.
     """
     wfit = LocalFit(gyro, kind, h, m)
     ffit = LocalFit(accel, kind, h, m)
-    n = wfit.n
+    count = wfit.n - first if count is None else count
+    n = count
     q0 = np.broadcast_to(q0, gyro.shape[1:-1] + (4,))
     nodes, step = _MAGNUS[order]
     # ω at the Magnus nodes of the whole interval, then of each partial [0, sᵢ] (sᵢ Gauss nodes)
@@ -221,9 +225,9 @@ def navigate_poly(kind: str, gyro: FloatArray, accel: FloatArray, h: float, q0: 
     per = max(1, _POLY_CHUNK // runs)                            # intervals per chunk
     for lo in range(0, n, per):
         hi = min(n, lo + per)
-        w = wfit.at_nodes(s_all, lo, hi)                         # (12, c, [R,] 3)
+        w = wfit.at_nodes(s_all, first + lo, first + hi)         # (12, c, [R,] 3)
         phi[lo:hi] = step(np.moveaxis(w[:nn], 0, -2), h)
-        f = ffit.at_nodes(_GQ_X, lo, hi)                         # (3, c, [R,] 3)
+        f = ffit.at_nodes(_GQ_X, first + lo, first + hi)         # (3, c, [R,] 3)
         dv_b[lo:hi] = 0.0
         dp_b[lo:hi] = 0.0
         for i, si in enumerate(_GQ_X):                           # R(Eᵢ) fᵢ, body at t_{k−1}

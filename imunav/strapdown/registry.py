@@ -7,6 +7,13 @@ global convergence order of the attitude, velocity and position errors on smooth
 ``tests/test_strapdown.py``), its source and whether it is causal. :data:`DEFAULT_ALGORITHM`
 names the most accurate one per kind; every caller that does not choose goes through it.
 
+All navigation goes through one driver, :class:`StreamNavigator`: it integrates chunks of
+intervals in turn, each with the samples around it that the algorithm needs as context (its
+``context``: two-sample corrections look one sample back, polynomial stencils a few both
+ways), carrying the state from chunk to chunk. So a recording of any length is navigated in
+bounded memory (the command line feeds it from the CSV as it reads), and the in-memory
+:func:`navigate` is the same code with all samples fed at once.
+
 May import: ``imunav.core``, ``imunav.sensors.signals``, ``imunav.strapdown`` modules below.
 """
 
@@ -26,8 +33,8 @@ from imunav.sensors.signals import KINDS, ImuSignals
 from imunav.strapdown import classic
 from imunav.strapdown.highorder import navigate_poly
 
-__all__ = ["ALGORITHMS", "Algorithm", "DEFAULT_ALGORITHM", "navigate", "navigate_batch",
-           "resolve"]
+__all__ = ["ALGORITHMS", "Algorithm", "DEFAULT_ALGORITHM", "StreamNavigator", "navigate",
+           "navigate_batch", "resolve"]
 
 
 @dataclass(frozen=True)
@@ -35,10 +42,12 @@ class Algorithm:
     """One strapdown algorithm.
 
     ``order`` is the global convergence order ``(attitude, velocity, position)`` on smooth
-    motion; ``func(gyro, accel, h, q0, v0, p0, g) → (q, v, p)`` integrates N samples (rates) or
-    N increments, for one run ((N, 3) inputs) or R runs at once ((N, R, 3)). ``causal``: the
-    state at ``t_k`` uses no sample after ``t_k`` (real-time capable; multi-sample algorithms
-    update once per major interval).
+    motion; ``func(gyro, accel, h, q0, v0, p0, g, first, count) → (q, v, p)`` integrates
+    ``count`` intervals of a window of samples (see :mod:`imunav.strapdown.classic`), for one run
+    ((M, 3) inputs) or R runs at once ((M, R, 3)). ``context``: samples needed before and after
+    an interval's own; ``align``: chunks must start at multiples of it (multi-sample groups).
+    ``causal``: the state at ``t_k`` uses no sample after ``t_k`` (real-time capable;
+    multi-sample algorithms update once per major interval).
     """
 
     name: str
@@ -48,6 +57,8 @@ class Algorithm:
     source: str
     func: Callable
     causal: bool = True
+    context: tuple[int, int] = (0, 0)
+    align: int = 1
 
     @property
     def min_samples(self) -> int:
@@ -57,8 +68,8 @@ class Algorithm:
 
 def _poly(kind: str, m: int, order: int) -> Callable:
     """A high-order offline algorithm: local m-node fit + Magnus-``order`` (strapdown.highorder)."""
-    def run(gyro, accel, h, q0, v0, p0, g):
-        return navigate_poly(kind, gyro, accel, h, q0, v0, p0, g, m=m, order=order)
+    def run(gyro, accel, h, q0, v0, p0, g, first, count):
+        return navigate_poly(kind, gyro, accel, h, q0, v0, p0, g, first, count, m=m, order=order)
 
     return run
 
@@ -84,12 +95,12 @@ ALGORITHMS = _register(
               "local cubic through 4 rate samples, one 2-node fourth-order Magnus step; "
               "velocity/position by 3-point Gauss quadrature of C_nb f_b",
               "Iserles & Nørsett 1999 (Magnus integrators); offline (uses the next sample)",
-              _poly("rates", 4, 4), causal=False),
+              _poly("rates", 4, 4), causal=False, context=(4, 4)),
     Algorithm("magnus6", "rates", (6, 6, 6),
               "local quintic through 6 rate samples, one 3-node sixth-order Magnus step; "
               "velocity/position by 3-point Gauss quadrature of C_nb f_b",
               "Blanes, Casas & Ros 2000 (sixth-order Magnus); offline (uses 3 later samples)",
-              _poly("rates", 6, 6), causal=False),
+              _poly("rates", 6, 6), causal=False, context=(6, 6)),
     Algorithm("first_order", "increments", (2, 2, 2),
               "q ← normalise(q ⊗ [1, Δθ/2]); Δv with rotation compensation, no sculling",
               "textbook small-angle quaternion, Marusenkova 2020 eq. (25)",
@@ -101,29 +112,33 @@ ALGORITHMS = _register(
               "rotation vector φ = Δθ_k + Δθ_{k−1}×Δθ_k/12 (1+1 'previous interval' coning), "
               "two-sample sculling and rotation compensation; trapezoidal position",
               "Savage 1998 (J. Guid. Control Dyn. 21(1)), Titterton & Weston ch. 11",
-              classic.increments_coning2),
+              classic.increments_coning2, context=(1, 0)),
     Algorithm("ignagni2", "increments", (3, 2, 2),
               "2-sample rotation vector: θ₁+θ₂ + ⅔ θ₁×θ₂ per major interval of 2 increments",
-              "Ignagni 1990 (J. Guid. Control Dyn. 13(2)); causal", classic.multisample("ignagni2")),
+              "Ignagni 1990 (J. Guid. Control Dyn. 13(2)); causal", classic.multisample("ignagni2"),
+              context=(1, 0), align=2),
     Algorithm("miller3", "increments", (3, 2, 2),
               "3-sample rotation vector, eq. (2) of Plaksiy & Homozkova with α=33/80, β=57/80",
-              "Miller 1983 (J. Guid. Control Dyn. 6(4)); causal", classic.multisample("miller3")),
+              "Miller 1983 (J. Guid. Control Dyn. 6(4)); causal", classic.multisample("miller3"),
+              context=(1, 0), align=3),
     Algorithm("ignagni3", "increments", (3, 2, 2),
               "3-sample rotation vector optimised for coning: α=9/20, β=27/40",
-              "Ignagni 1990; causal", classic.multisample("ignagni3")),
+              "Ignagni 1990; causal", classic.multisample("ignagni3"),
+              context=(1, 0), align=3),
     Algorithm("ignagni4", "increments", (3, 2, 2),
               "4-sample rotation vector optimised for coning (coefficients /945)",
-              "Ignagni 1990; Savage 1998 table 1; causal", classic.multisample("ignagni4")),
+              "Ignagni 1990; Savage 1998 table 1; causal", classic.multisample("ignagni4"),
+              context=(1, 0), align=4),
     Algorithm("poly6_m4", "increments", (4, 4, 4),
               "6-node fit of cumulative increments, one fourth-order Magnus step per interval; "
               "Gauss quadrature of C_nb f_b for velocity/position",
               "this work (local polynomial + Magnus, Iserles & Nørsett 1999); offline",
-              _poly("increments", 6, 4), causal=False),
+              _poly("increments", 6, 4), causal=False, context=(6, 6)),
     Algorithm("poly8_m6", "increments", (6, 6, 6),
               "8-node fit of cumulative increments, one sixth-order Magnus step per interval; "
               "Gauss quadrature of C_nb f_b for velocity/position",
               "this work (local polynomial + Blanes–Casas–Ros sixth-order Magnus); offline",
-              _poly("increments", 8, 6), causal=False),
+              _poly("increments", 8, 6), causal=False, context=(8, 8)),
 )
 
 #: The most accurate algorithm for each signal kind (used when none is named).
@@ -140,6 +155,90 @@ def resolve(kind: str, algorithm: str | None = None) -> Algorithm:
         raise ImunavError(
             f"unknown algorithm {name!r} for {kind}; choose one of {', '.join(sorted(table))}")
     return table[name]
+
+
+#: Intervals × runs per chunk of the driver (the working set of one chunk stays small).
+CHUNK = 1 << 16
+
+
+class StreamNavigator:
+    """Navigate samples fed in pieces of any size; states come out chunk by chunk.
+
+    ``feed(gyro, accel)`` takes the next samples ((n, 3), or (n, R, 3) for R runs) and returns
+    the states completed so far as ``(q, v, p)`` arrays for the nodes after the last returned
+    one (possibly empty); ``finish()`` integrates what is left. The initial state (node 0) is
+    not returned. Memory: the samples of about two chunks.
+    """
+
+    def __init__(self, kind: str, rate: float, q0, v0, p0, g: float = G0, *,
+                 algorithm: str | None = None, runs: int | None = None, chunk: int = CHUNK):
+        self.algo = resolve(kind, algorithm)
+        self.h = 1.0 / check_positive(rate, "rate")
+        self.g = check_gravity(g)
+        self.state = (q0, v0, p0)
+        self.own = 1 if kind == "rates" else 0           # an interval's own samples beyond k
+        before, after = self.algo.context
+        self.before, self.after = before, after
+        per = max(1, chunk // max(1, runs or 1))
+        self.chunk = max(self.algo.align, per // self.algo.align * self.algo.align)
+        self.buf_g: list[np.ndarray] = []
+        self.buf_a: list[np.ndarray] = []
+        self.buf_start = 0          # global index of the first buffered sample
+        self.buf_len = 0
+        self.next = 0               # next interval to integrate
+        self.total = 0              # samples fed so far
+
+    def _window(self, w0: int, w1: int) -> tuple[np.ndarray, np.ndarray]:
+        g = np.concatenate(self.buf_g) if len(self.buf_g) > 1 else self.buf_g[0]
+        a = np.concatenate(self.buf_a) if len(self.buf_a) > 1 else self.buf_a[0]
+        self.buf_g, self.buf_a = [g], [a]
+        return g[w0 - self.buf_start: w1 - self.buf_start], a[w0 - self.buf_start: w1 - self.buf_start]
+
+    def _step(self, lo: int, hi: int, end: int):
+        w0 = max(0, lo - self.before)
+        w1 = min(end, hi + self.own + self.after)
+        g, a = self._window(w0, w1)
+        q, v, p = self.algo.func(g, a, self.h, *self.state, self.g, lo - w0, hi - lo)
+        self.state = (q[-1], v[-1], p[-1])
+        self.next = hi
+        keep = max(self.buf_start, hi - self.before)               # drop what is not context
+        if keep > self.buf_start:
+            cut = keep - self.buf_start
+            self.buf_g, self.buf_a = [self.buf_g[0][cut:]], [self.buf_a[0][cut:]]
+            self.buf_start, self.buf_len = keep, self.buf_len - cut
+        return q[1:], v[1:], p[1:]
+
+    def feed(self, gyro: np.ndarray, accel: np.ndarray) -> list[tuple]:
+        self.buf_g.append(np.asarray(gyro, float))
+        self.buf_a.append(np.asarray(accel, float))
+        self.buf_len += len(gyro)
+        self.total += len(gyro)
+        out = []
+        while self.next + self.chunk + self.own + self.after <= self.total:
+            out.append(self._step(self.next, self.next + self.chunk, self.total))
+        return out
+
+    def finish(self) -> list[tuple]:
+        out = []
+        n_int = self.total - self.own
+        while self.next < n_int:
+            out.append(self._step(self.next, min(n_int, self.next + self.chunk), self.total))
+        return out
+
+
+def _collect(nav: StreamNavigator, gyro, accel, q0, v0, p0) -> tuple[FloatArray, ...]:
+    """All samples at once through the driver, into preallocated arrays."""
+    n_nodes = gyro.shape[0] + 1 - nav.own
+    q = np.empty((n_nodes,) + np.shape(q0))
+    v = np.empty((n_nodes,) + np.shape(v0))
+    p = np.empty_like(v)
+    q[0], v[0], p[0] = quat_normalize(q0), v0, p0
+    k = 1
+    for qc, vc, pc in nav.feed(gyro, accel) + nav.finish():
+        m = qc.shape[0]
+        q[k:k + m], v[k:k + m], p[k:k + m] = qc, vc, pc
+        k += m
+    return q, v, p
 
 
 def navigate(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike = (0.0, 0.0, 0.0),
@@ -176,7 +275,8 @@ def navigate(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike = (0.0, 0
     if len(signals) < algo.min_samples:
         raise ImunavError(f"{signals.kind} signals need at least {algo.min_samples} samples, "
                           f"got {len(signals)}")
-    q, v, p = algo.func(signals.gyro, signals.accel, signals.dt, q0, v0, p0, g)
+    nav = StreamNavigator(signals.kind, signals.rate, q0, v0, p0, g, algorithm=algo.name)
+    q, v, p = _collect(nav, signals.gyro, signals.accel, q0, v0, p0)
     return States(signals.state_times(), p, v, q, algo.name)
 
 
@@ -194,8 +294,9 @@ def navigate_batch(kind: str, gyro: FloatArray, accel: FloatArray, rate: float,
     if gyro.shape[0] < algo.min_samples:
         raise ImunavError(f"{kind} signals need at least {algo.min_samples} samples")
     R = gyro.shape[1]
-    q0 = np.broadcast_to(quat_normalize(as_float_array(q0, "q0", last=4)), (R, 4))
-    v0 = np.broadcast_to(as_float_array(v0, "v0", last=3), (R, 3))
-    p0 = np.broadcast_to(as_float_array(p0, "p0", last=3), (R, 3))
-    h = 1.0 / check_positive(rate, "rate")
-    return algo.func(gyro, accel, h, np.ascontiguousarray(q0), v0, p0, check_gravity(g))
+    q0 = np.ascontiguousarray(np.broadcast_to(quat_normalize(as_float_array(q0, "q0", last=4)),
+                                              (R, 4)))
+    v0 = np.ascontiguousarray(np.broadcast_to(as_float_array(v0, "v0", last=3), (R, 3)))
+    p0 = np.ascontiguousarray(np.broadcast_to(as_float_array(p0, "p0", last=3), (R, 3)))
+    nav = StreamNavigator(kind, rate, q0, v0, p0, g, algorithm=algo.name, runs=R)
+    return _collect(nav, gyro, accel, q0, v0, p0)
