@@ -1,6 +1,10 @@
-"""Command line: ``imunav simulate | navigate | reproduce`` (also ``python -m imunav``).
+"""Command line: ``imunav simulate | navigate | assess | reproduce`` (also ``python -m imunav``).
 
-User errors exit with status 2 and a single line ``imunav: error: …`` (no traceback).
+Every user error exits with status 2 and one line ``imunav: error: …`` naming the argument,
+file, row or law and what was expected; numeric warnings never reach the terminal. No output
+path may be an input (checked before anything runs), outputs are written to a temporary file
+renamed at the end, and signals and states are streamed in chunks: a run of any length needs no
+more memory than a short one.
 
 May import: anything in imunav (a face of the package).
 """
@@ -8,29 +12,36 @@ May import: anything in imunav (a face of the package).
 from __future__ import annotations
 
 import argparse
+import collections
+import os
+import signal
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
 
 from imunav.analysis.assessment import assess, format_verdict
 from imunav.core.constants import G0
+from imunav.core.resources import check_disk
 from imunav.core.validation import ImunavError, check_positive
 from imunav.io import realdata
 from imunav.io.files import (
+    ROW_BYTES,
+    SignalFile,
     load_motion_toml,
-    read_signals,
-    read_states,
+    read_initial_state,
+    signals_writer,
+    states_writer,
     write_json,
-    write_signals,
-    write_states,
 )
+from imunav.io.paths import check_outputs
 from imunav.reproduce import format_table, reproduce_all
-from imunav.sensors.models import ImuModel, measure
-from imunav.sensors.signals import ImuSignals
-from imunav.sensors.simulate import simulate_imu, truth_states
+from imunav.sensors.models import ImuModel
+from imunav.sensors.presets import PRESETS
+from imunav.sensors.simulate import ideal_chunks, interval_count, measured_chunks
 from imunav.strapdown.alignment import level_attitude
-from imunav.strapdown.registry import ALGORITHMS, navigate
+from imunav.strapdown.registry import ALGORITHMS, StreamNavigator, navigate, resolve
 
 
 class _Parser(argparse.ArgumentParser):
@@ -42,8 +53,25 @@ def _positive(name):
     def conv(text):
         try:
             return check_positive(float(text), name)
-        except (ValueError, ImunavError) as exc:
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} must be a positive number, got "
+                                             f"{text!r}") from None
+        except ImunavError as exc:
             raise argparse.ArgumentTypeError(str(exc)) from None
+
+    return conv
+
+
+def _integer(name, minimum):
+    def conv(text):
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} must be an integer ≥ {minimum}, got "
+                                             f"{text!r}") from None
+        if v < minimum:
+            raise argparse.ArgumentTypeError(f"{name} must be an integer ≥ {minimum}, got {v}")
+        return v
 
     return conv
 
@@ -51,8 +79,9 @@ def _positive(name):
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(prog="imunav", description=__doc__.splitlines()[0])
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    presets = ", ".join(PRESETS)
 
-    s = sub.add_parser("simulate", help="ideal IMU signals from MOTION.toml")
+    s = sub.add_parser("simulate", help="IMU signals from MOTION.toml (ideal, or with --imu)")
     s.add_argument("motion", metavar="MOTION.toml")
     s.add_argument("--rate", required=True, type=_positive("--rate"), metavar="HZ")
     s.add_argument("--out", required=True, metavar="SIGNALS.csv")
@@ -61,9 +90,10 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--g", type=_positive("--g"), metavar="G",
                    help="gravity (m/s²); default the motion file's g or 9.80665")
     s.add_argument("--imu", metavar="PRESET|IMU.toml",
-                   help="add sensor errors: a preset (ideal, BNO055, MPU-6050, BMI088, "
-                        "ADIS16470, tactical) or an IMU.toml with [gyro] and [accel] tables")
-    s.add_argument("--seed", type=int, default=0, help="random seed for --imu (default 0)")
+                   help=f"add sensor errors: a preset ({presets}) or an IMU.toml with [gyro] "
+                        "and [accel] tables")
+    s.add_argument("--seed", type=_integer("--seed", 0), default=0,
+                   help="random seed for --imu (default 0)")
 
     names = sorted({n for table in ALGORITHMS.values() for n in table})
     n = sub.add_parser("navigate", help="integrate SIGNALS.csv from the initial state")
@@ -93,9 +123,9 @@ def build_parser() -> argparse.ArgumentParser:
     a.add_argument("motion", metavar="MOTION.toml")
     a.add_argument("--imu", required=True, metavar="PRESET|IMU.toml")
     a.add_argument("--rate", required=True, type=_positive("--rate"), metavar="HZ")
-    a.add_argument("--runs", required=True, type=int, metavar="N")
+    a.add_argument("--runs", required=True, type=_integer("--runs", 1), metavar="N")
     a.add_argument("--tolerance", required=True, type=_positive("--tolerance"), metavar="POS_M")
-    a.add_argument("--seed", type=int, default=0)
+    a.add_argument("--seed", type=_integer("--seed", 0), default=0)
     a.add_argument("--json", metavar="OUT.json")
     a.add_argument("--scheduler", metavar="ADDRESS", help="run on a Dask cluster (imunav[dask])")
 
@@ -104,80 +134,118 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def _same_file(a: str, b: str) -> bool:
-    try:
-        return Path(a).resolve() == Path(b).resolve()
-    except OSError:
-        return False
+def _imu(spec: str | None) -> tuple[ImuModel | None, list]:
+    """The --imu model and, if it is a file, that file as an input."""
+    if spec is None:
+        return None, []
+    return ImuModel.load(spec), ([] if spec in PRESETS else [spec])
 
 
 def cmd_simulate(args) -> int:
-    if _same_file(args.out, args.motion) or (args.truth and _same_file(args.truth, args.motion)):
-        raise ImunavError("output file would overwrite the motion file")
+    model, imu_files = _imu(args.imu)
+    out = check_outputs({"--out": args.out, "--truth": args.truth}, [args.motion, *imu_files])
     motion, duration, g_file = load_motion_toml(args.motion)
     g = args.g if args.g is not None else (g_file if g_file is not None else G0)
-    if args.imu:
-        model = ImuModel.load(args.imu)
-        sig = _simulate_with_errors(motion, model, args.rate, duration, args.output, g, args.seed)
-    else:
-        sig = simulate_imu(motion, args.rate, duration, output=args.output, g=g)
-    write_signals(args.out, sig)
+    n = interval_count(args.rate, duration)
+    check_disk(out["--out"], (n + 1) * ROW_BYTES["signals"], "this simulation")
     if args.truth:
-        t = np.arange(int(round(duration * args.rate)) + 1) / args.rate
-        write_states(args.truth, truth_states(motion, t))
-    print(f"wrote {len(sig)} {sig.kind} rows at {args.rate:g} Hz to {args.out}")
+        check_disk(out["--truth"], (n + 1) * ROW_BYTES["states"], "--truth")
+    clipped = [0]
+    if model is None:
+        chunks = ideal_chunks(motion, args.rate, duration, output=args.output, g=g)
+    else:
+        chunks = measured_chunks(motion, model, args.rate, duration, output=args.output, g=g,
+                                 seed=args.seed,
+                                 on_clip=lambda c: clipped.__setitem__(0, clipped[0] + c))
+    rows = 0
+    with signals_writer(out["--out"], args.output) as w:
+        for t, gyro, accel in chunks:
+            w.write([t, gyro, accel])
+            rows += t.size
+        if args.truth:
+            with states_writer(out["--truth"]) as tw:
+                for lo in range(0, n + 1, 1 << 16):
+                    t = np.arange(lo, min(n + 1, lo + (1 << 16))) / args.rate
+                    st = motion.states(t)
+                    tw.write([st.t, st.position, st.velocity, st.quaternion])
+    if clipped[0]:
+        print(f"imunav: warning: {clipped[0]} samples clipped at the sensor range",
+              file=sys.stderr)
+    print(f"wrote {rows} {args.output} rows at {args.rate:g} Hz to {args.out}")
     return 0
 
 
-def _simulate_with_errors(motion, model, rate, duration, output, g, seed):
-    k = model.decimation(rate)
-    sim = simulate_imu(motion, rate * k, duration, output=output, g=g)
-    rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0])
-    gm, am, flags = measure(model, sim.gyro, sim.accel, output, rate * k, rng, k)
-    t = sim.t[::k] if output == "rates" else sim.t[k - 1::k][: gm.shape[0]]
-    if flags.any():
-        print(f"warning: {int(flags.sum())} samples clipped at the sensor range", file=sys.stderr)
-    return ImuSignals(t, gm, am, output, rate, g)
-
-
 def cmd_assess(args) -> int:
-    if args.runs < 1:
-        raise ImunavError(f"--runs must be a positive integer, got {args.runs}")
+    model, imu_files = _imu(args.imu)
+    out = check_outputs({"--json": args.json}, [args.motion, *imu_files])
     motion, duration, g_file = load_motion_toml(args.motion)
-    model = ImuModel.load(args.imu)
     r = assess(motion, model, args.rate, args.runs, args.tolerance, seed=args.seed,
                duration=duration, scheduler=args.scheduler)
     print(format_verdict(r))
     if args.json:
-        write_json(r, args.json)
+        write_json(r, out["--json"])
     return 0
 
 
+def _check_algorithm(kind: str, name: str | None) -> None:
+    if name and name not in ALGORITHMS[kind]:
+        raise ImunavError(f"--algorithm {name!r} does not take {kind}; choose one of "
+                          f"{', '.join(sorted(ALGORITHMS[kind]))}")
+
+
 def cmd_navigate(args) -> int:
-    for other in (args.signals, args.initial):
-        if other and _same_file(args.out, other):
-            raise ImunavError(f"--out {args.out} would overwrite an input file")
-    if args.format == "imunav":
-        if not args.initial:
-            raise ImunavError("--initial TRUTH.csv is required for imunav signal files")
-        sig = read_signals(args.signals, g=args.g)
-    else:
-        sig = _read_recording(args)
+    out = check_outputs({"--out": args.out}, [args.signals, args.initial])
+    if args.format != "imunav":
+        return _navigate_recording(args, out["--out"])
+    if not args.initial:
+        raise ImunavError("--initial TRUTH.csv is required for imunav signal files")
+    f = SignalFile(args.signals, g=args.g)
+    _check_algorithm(f.kind, args.algorithm)
+    init = read_initial_state(args.initial)
+    if abs(init.t[0] - f.t0) > 1e-6 * f.dt + 1e-12 * abs(f.t0):
+        raise ImunavError(f"--initial {args.initial} starts at t = {init.t[0]:.9g} s but the "
+                          f"signals start at t = {f.t0:.9g} s")
+    check_disk(out["--out"], 1.7 * Path(args.signals).stat().st_size, "this navigation")
+    q0, v0, p0 = init.initial()
+    algo = resolve(f.kind, args.algorithm)
+    nav = StreamNavigator(f.kind, f.rate, q0, v0, p0, f.g, algorithm=algo.name, t0=f.t0)
+    times = collections.deque()                      # times of the nodes still to come out
+    rows = 0
+
+    def emit(w, parts):
+        nonlocal rows
+        for q, v, p in parts:
+            t = np.array([times.popleft() for _ in range(len(q))])
+            w.write([t, p, v, q])
+            rows += len(q)
+
+    with states_writer(out["--out"]) as w:
+        w.write([np.array([f.t0]), p0[None], v0[None], (q0 / np.linalg.norm(q0))[None]])
+        rows += 1
+        skip = 1 if f.kind == "rates" else 0         # a rate file's first sample is node 0
+        for t, gyro, accel in f.chunks():
+            times.extend(t[skip:].tolist())
+            skip = 0
+            emit(w, nav.feed(gyro, accel))
+        if f.rows < algo.min_samples:
+            raise ImunavError(f"{args.signals}: {f.kind} signals need at least "
+                              f"{algo.min_samples} rows")
+        emit(w, nav.finish())
+    print(f"wrote {rows} navigation rows ({algo.name}) to {args.out}")
+    return 0
+
+
+def _navigate_recording(args, out: Path) -> int:
+    sig = _read_recording(args)
+    _check_algorithm(sig.kind, args.algorithm)
     if args.initial:
-        st = read_states(args.initial)
-        init = {"quaternion": st.quaternion, "velocity": st.velocity, "position": st.position}
+        q0, v0, p0 = read_initial_state(args.initial).initial()
     else:
         n = max(1, int(args.rest_window * sig.rate))
-        init = {"quaternion": [level_attitude(sig.accel[:n], sig.g, tol=0.1)],
-                "velocity": [np.zeros(3)], "position": [np.zeros(3)]}
-    if args.algorithm and args.algorithm not in ALGORITHMS[sig.kind]:
-        raise ImunavError(
-            f"algorithm {args.algorithm!r} does not take {sig.kind}; choose one of "
-            f"{', '.join(sorted(ALGORITHMS[sig.kind]))}"
-        )
-    res = navigate(sig, init["quaternion"][0], init["velocity"][0], init["position"][0],
-                   algorithm=args.algorithm)
-    write_states(args.out, res)
+        q0, v0, p0 = level_attitude(sig.accel[:n], sig.g, tol=0.1), np.zeros(3), np.zeros(3)
+    res = navigate(sig, q0, v0, p0, algorithm=args.algorithm)
+    with states_writer(out) as w:
+        w.write([res.t, res.position, res.velocity, res.quaternion])
     print(f"wrote {len(res.t)} navigation rows ({res.algorithm}) to {args.out}")
     return 0
 
@@ -207,17 +275,65 @@ def cmd_reproduce(args) -> int:
     return 0
 
 
+class _Terminated(BaseException):
+    """SIGTERM, raised in the main thread so that every output's temporary file is removed."""
+
+
+def _terminate(signum, frame):
+    raise _Terminated()
+
+
+def _warning_line(message, category, filename, lineno, file=None, line=None):
+    print(f"imunav: warning: {message}", file=sys.stderr)
+
+
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
     try:
-        return {"simulate": cmd_simulate, "navigate": cmd_navigate, "assess": cmd_assess,
-                "reproduce": cmd_reproduce}[args.command](args)
-    except ImunavError as exc:
-        print(f"imunav: error: {exc}", file=sys.stderr)
-        return 2
-    except OSError as exc:  # unreadable/unwritable paths
-        print(f"imunav: error: {exc.strerror or exc}: {exc.filename}", file=sys.stderr)
-        return 2
+        args = build_parser().parse_args(argv)
+    except SystemExit as exc:                                # usage errors (2), --help (0)
+        return int(exc.code or 0)
+    command = {"simulate": cmd_simulate, "navigate": cmd_navigate, "assess": cmd_assess,
+               "reproduce": cmd_reproduce}[args.command]
+    try:
+        previous = signal.signal(signal.SIGTERM, _terminate)
+    except ValueError:                                       # not the main thread
+        previous = None
+    try:
+        return _run(command, args)
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _run(command, args) -> int:
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore", RuntimeWarning)      # numeric noise: checked values
+        warnings.showwarning = _warning_line                 # anything else: one line
+        try:
+            return command(args)
+        except ImunavError as exc:
+            print(f"imunav: error: {exc}", file=sys.stderr)
+            return 2
+        except OSError as exc:                               # unreadable/unwritable paths
+            where = f": {exc.filename}" if exc.filename else ""
+            print(f"imunav: error: {exc.strerror or exc}{where}", file=sys.stderr)
+            return 2
+        except MemoryError:
+            print("imunav: error: out of memory (try fewer --runs, a lower --rate or a shorter "
+                  "duration)", file=sys.stderr)
+            return 2
+        except KeyboardInterrupt:
+            print("imunav: interrupted; no output was written", file=sys.stderr)
+            return 130
+        except _Terminated:
+            print("imunav: terminated; no output was written", file=sys.stderr)
+            return 143
+        except Exception as exc:                             # a bug: one line, exit 1
+            if os.environ.get("IMUNAV_DEBUG"):
+                raise
+            print(f"imunav: internal error (please report it; IMUNAV_DEBUG=1 shows the "
+                  f"traceback): {type(exc).__name__}: {exc}", file=sys.stderr)
+            return 1
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -17,11 +17,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from imunav.core.constants import G0
+from imunav.core.resources import check_memory
 from imunav.core.rotations import FloatArray, _angle
-from imunav.core.validation import ImunavError, check_positive
+from imunav.core.validation import ImunavError, check_int, check_positive
 from imunav.motion.base import BaseMotion
 from imunav.sensors.models import ImuModel, measure
-from imunav.sensors.simulate import simulate_imu
+from imunav.sensors.simulate import interval_count, simulate_imu
 from imunav.strapdown.registry import navigate_batch
 
 
@@ -76,19 +77,23 @@ def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: floa
     Reproducible bit for bit for a given ``seed`` (whatever ``chunk`` or ``scheduler``).
     """
     rate = check_positive(rate, "rate")
-    if int(runs) < 1:
-        raise ImunavError(f"runs must be a positive integer, got {runs!r}")
-    runs = int(runs)
+    runs = check_int(runs, "runs", 1)
+    seed = check_int(seed, "seed", 0)
     duration = duration or motion.duration
     if duration is None:
         raise ImunavError("duration must be given (the motion has no default duration)")
     k = model.decimation(rate)
+    n = interval_count(rate, duration)
+    chunk = chunk or max(1, min(runs, int(2e6 // max(n, 1))))
+    # ideal signals at the internal rate, the per-run histories, one chunk's working set
+    need = 8 * (6 * (n * k + 1) + 3 * runs * (n + 1) + 40 * chunk * (n + 1) * min(k, 4))
+    check_memory(need, f"{runs:,} Monte Carlo runs of {n:,} samples (internal rate "
+                       f"{rate * k:g} Hz)")
     sim = simulate_imu(motion, rate * k, duration, output=output, g=g)
     n_out = len(sim) // k if output == "increments" else (len(sim) - 1) // k + 1
     t = np.arange(n_out + (1 if output == "increments" else 0)) / rate
     truth_q, truth_v, truth_p = motion.attitude(t), motion.velocity(t), motion.position(t)
     seeds = np.random.SeedSequence(seed).spawn(runs)
-    chunk = chunk or max(1, min(runs, int(2e6 // max(n_out, 1))))
     parts = [seeds[i:i + chunk] for i in range(0, runs, chunk)]
     args = (sim.gyro, sim.accel, output, rate * k, k, model)
     tail = (truth_q[0], truth_v[0], truth_p[0], g, truth_p, truth_v, truth_q, rate, algorithm)

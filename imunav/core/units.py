@@ -119,7 +119,18 @@ def parse(value, key: str) -> float:
                           f"{type(value).__name__}")
     if not math.isfinite(v) or v < 0:
         raise ImunavError(f"{key} must be a finite non-negative value, got {value!r}")
+    if name in LIMITS and not LIMITS[name][0] <= v <= LIMITS[name][1]:
+        lo, hi, why = LIMITS[name]
+        raise ImunavError(f"{key} = {value!r} is outside {lo:g}–{hi:g} (SI): {why}")
     return v
+
+
+#: Physical bounds of parameters that size the work (SI): a value outside is a typo.
+LIMITS = {
+    "internal_rate": (1.0, 1e6, "no inertial sensor samples faster than 1 MHz internally"),
+    "bandwidth": (1e-3, 1e6, "a filter corner between 1 mHz and 1 MHz"),
+    "bias_correlation_time": (1e-3, 1e9, "a correlation time between 1 ms and 30 years"),
+}
 
 
 def factor(unit: str, dimension: str, what: str) -> float:

@@ -12,7 +12,9 @@ from imunav.io.files import (
     INCREMENTS_HEADER,
     RATES_HEADER,
     STATE_HEADER,
+    SignalFile,
     load_motion_toml,
+    read_initial_state,
     read_signals,
     read_states,
     write_json,
@@ -22,5 +24,6 @@ from imunav.io.files import (
 from imunav.io.realdata import READERS, Recording, read_generic, read_ximu, read_ximu3
 
 __all__ = ["HEADERS", "INCREMENTS_HEADER", "RATES_HEADER", "READERS", "Recording",
-           "STATE_HEADER", "load_motion_toml", "read_generic", "read_signals", "read_states",
+           "STATE_HEADER", "SignalFile", "load_motion_toml", "read_generic",
+           "read_initial_state", "read_signals", "read_states",
            "read_ximu", "read_ximu3", "write_json", "write_signals", "write_states"]

@@ -1,4 +1,4 @@
-"""Files: MOTION.toml, and the signal / truth / navigation CSV formats.
+"""Files: MOTION.toml, the signal / truth / navigation CSV formats, and result JSON.
 
 CSV headers (exactly):
 
@@ -6,24 +6,28 @@ CSV headers (exactly):
 - increments:  ``t,dthx,dthy,dthz,dvx,dvy,dvz`` (s, rad, m/s), one row per interval end, k = 1..N
 - truth / nav: ``t,x,y,z,vx,vy,vz,qw,qx,qy,qz`` (s, m, m/s, scalar-first q_nb)
 
-Numbers are written with 17 significant digits so a double survives the round trip exactly.
-Input files are only ever read.
+Numbers are written as the shortest decimal that reads back as the same double, so every value
+survives a write and a read exactly. Files of any length are read and written in chunks
+(:class:`SignalFile`, :class:`~imunav.io.csvio.CsvWriter`); input files are only ever read,
+and outputs appear only when complete.
 
-May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``.
+May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``, ``imunav.io.csvio``.
 """
 
 from __future__ import annotations
 
-import csv
 import json
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
 
 from imunav.core.constants import G0
+from imunav.core.resources import check_memory
 from imunav.core.rotations import FloatArray
 from imunav.core.states import States
-from imunav.core.validation import ImunavError, check_positive, check_time, read_toml
+from imunav.core.validation import ImunavError, check_gravity, check_positive, read_toml
+from imunav.io.csvio import CsvWriter, atomic_write_text, first_row, read_chunks, read_header
 from imunav.motion.analytic import Motion
 from imunav.sensors.signals import ImuSignals
 
@@ -32,115 +36,180 @@ INCREMENTS_HEADER = ("t", "dthx", "dthy", "dthz", "dvx", "dvy", "dvz")
 STATE_HEADER = ("t", "x", "y", "z", "vx", "vy", "vz", "qw", "qx", "qy", "qz")
 HEADERS = {"rates": RATES_HEADER, "increments": INCREMENTS_HEADER}
 
+#: Approximate bytes per written row (disk-space checks before long runs).
+ROW_BYTES = {"signals": 170, "states": 260}
+
+#: Largest relative departure of a sample interval from the file's mean interval.
+SPACING_TOLERANCE = 1e-6
+
 
 def load_motion_toml(path: str | Path) -> tuple[Motion, float, float | None]:
     """Read ``MOTION.toml`` → ``(motion, duration, g or None)``.
 
-    Top-level ``duration`` (s, required, > 0) and optional ``g`` (m/s²); tables
+    Top-level ``duration`` (s, required, a number > 0) and optional ``g`` (m/s², > 0); tables
     ``[position]`` (``x``, ``y``, ``z``) and ``[attitude]`` (``yaw``, ``pitch``, ``roll``),
-    each a SymPy expression string in ``t``; missing entries are 0.
+    each a law in ``t`` (see :mod:`imunav.motion.laws`); missing entries are 0.
     """
     path = Path(path)
     spec = read_toml(path, "motion file")
     if "duration" not in spec:
         raise ImunavError(f"{path}: top-level 'duration' (s) is required")
-    duration = check_positive(spec["duration"], "duration")
+    duration = check_positive(spec["duration"], f"{path}: duration")
     g = spec.get("g")
     if g is not None:
-        g = check_positive(g, "g")
-    motion = Motion.from_dict(spec, name=path.stem)
-    return motion, duration, g
+        g = check_positive(g, f"{path}: g")
+    return Motion.from_dict(spec, name=path.stem), duration, g
 
 
-def _write(path: str | Path, header, columns: list[FloatArray]) -> None:
-    data = np.column_stack(columns)
+class SignalFile:
+    """A rates or increments CSV, read chunk by chunk.
+
+    The kind comes from the header; the sample rate from the time column of the first chunk
+    (at least two rows); every later row is checked as it is read: strictly increasing times,
+    uniformly spaced (to 1e-6 of the interval). :meth:`chunks` yields ``(t, gyro, accel)``.
+    """
+
+    def __init__(self, path: str | Path, g: float | None = None):
+        self.path = Path(path)
+        header = read_header(self.path, "signals")
+        self.kind = next((k for k, h in HEADERS.items() if header == h), None)
+        if self.kind is None:
+            raise ImunavError(
+                f"{self.path}: unrecognised header {','.join(header)!r}; expected "
+                f"{','.join(RATES_HEADER)!r} (rates) or {','.join(INCREMENTS_HEADER)!r} "
+                "(increments)")
+        self.g = G0 if g is None else check_gravity(g)
+        self._it = read_chunks(self.path, header, "signals")
+        first = []
+        n = 0
+        for data in self._it:
+            first.append(data)
+            n += len(data)
+            if n >= 2:
+                break
+        if n == 0:
+            raise ImunavError(f"signals file {self.path} has a header but no data rows")
+        if n < 2:
+            raise ImunavError(f"{self.path}: need at least 2 rows to infer the sample rate")
+        self._first = np.concatenate(first)
+        t = self._first[:, 0]
+        self.t_first = float(t[0])
+        dt = (t[-1] - t[0]) / (t.size - 1)
+        if not dt > 0:
+            raise ImunavError(f"{self.path}: column t must be strictly increasing")
+        # the times of a file imunav wrote are t0 + k/rate: the estimate carries rounding that
+        # 12 significant digits remove (0.05 s, not 0.05000000000000000694)
+        self.rate = float(f"{1.0 / dt:.12g}")
+        self.dt = 1.0 / self.rate
+        self._last_t = None
+        self.rows = 0
+
+    @property
+    def t0(self) -> float:
+        """Start time (s) of the navigation: the first sample, or for increments the start of
+        the first interval."""
+        return self.t_first if self.kind == "rates" else self.t_first - self.dt
+
+    def _check(self, t: FloatArray) -> None:
+        prev = self._last_t
+        tt = t if prev is None else np.concatenate([[prev], t])
+        d = np.diff(tt)
+        bad = (d <= 0) | (np.abs(d - self.dt) > SPACING_TOLERANCE * self.dt)
+        if bad.any():
+            i = int(np.argmax(bad))
+            row = self.rows + i + (2 if prev is None else 1)          # 1-based data row
+            what = ("strictly increasing" if d[i] <= 0 else
+                    f"uniformly spaced (every {self.dt:.9g} s, as in the first rows)")
+            raise ImunavError(f"{self.path}: column t must be {what}; data row {row} has "
+                              f"t = {tt[i + 1]:.9g} s after {tt[i]:.9g} s")
+
+    def chunks(self) -> Iterator[tuple[FloatArray, FloatArray, FloatArray]]:
+        """``(t, gyro, accel)`` chunks of the whole file, checked as they are read."""
+        for data in self._data():
+            yield data[:, 0], data[:, 1:4], data[:, 4:7]
+
+    def _data(self) -> Iterator[np.ndarray]:
+        first, self._first = self._first, None
+        for data in ([first] if first is not None else []):
+            self._check(data[:, 0])
+            self._last_t, self.rows = data[-1, 0], self.rows + len(data)
+            yield data
+        for data in self._it:
+            self._check(data[:, 0])
+            self._last_t, self.rows = data[-1, 0], self.rows + len(data)
+            yield data
+
+
+def read_signals(path: str | Path, g: float | None = None) -> ImuSignals:
+    """Read a whole rates or increments CSV (see :class:`SignalFile`) into memory."""
+    f = SignalFile(path, g)
+    check_memory(4 * Path(path).stat().st_size, f"reading {path} into memory",
+                 "imunav navigate streams files of any length")
+    parts = list(f.chunks())
+    t, gyro, accel = (np.concatenate([p[i] for p in parts]) for i in range(3))
+    return ImuSignals(t, gyro, accel, f.kind, f.rate, f.g)
+
+
+def _states_header(path: Path) -> tuple[str, ...]:
+    header = read_header(path, "state")
+    if header != STATE_HEADER:
+        raise ImunavError(f"{path}: unrecognised header {','.join(header)!r}; expected "
+                          f"{','.join(STATE_HEADER)!r}")
+    return header
+
+
+def _states(path: Path, data: np.ndarray) -> States:
+    q = data[:, 7:11]
+    if np.any(np.linalg.norm(q, axis=1) < 1e-12):
+        raise ImunavError(f"{path}: quaternion columns qw,qx,qy,qz must not be all zero")
+    t = data[:, 0]
+    if t.size > 1 and np.any(np.diff(t) <= 0):
+        i = int(np.argmax(np.diff(t) <= 0))
+        raise ImunavError(f"{path}: column t must be strictly increasing (data row {i + 2})")
+    return States(t, data[:, 1:4], data[:, 4:7], q)
+
+
+def read_initial_state(path: str | Path) -> States:
+    """The first data row of a truth/navigation CSV (the rest of the file is not read)."""
     path = Path(path)
-    with path.open("w", newline="") as fh:
-        fh.write(",".join(header) + "\n")
-        # '%.17g' round-trips every double exactly.
-        np.savetxt(fh, data, fmt="%.17g", delimiter=",")
+    row = first_row(path, _states_header(path), "state")
+    if row is None:
+        raise ImunavError(f"state file {path} has a header but no data rows")
+    return _states(path, row[None])
+
+
+def read_states(path: str | Path) -> States:
+    """Read a whole truth/navigation CSV."""
+    path = Path(path)
+    header = _states_header(path)
+    parts = list(read_chunks(path, header, "state"))
+    if not parts:
+        raise ImunavError(f"state file {path} has a header but no data rows")
+    return _states(path, np.concatenate(parts))
+
+
+def signals_writer(path: str | Path, kind: str) -> CsvWriter:
+    """A :class:`CsvWriter` for ``kind`` signals; write ``[t, gyro, accel]`` chunks."""
+    return CsvWriter(path, HEADERS[kind])
+
+
+def states_writer(path: str | Path) -> CsvWriter:
+    """A :class:`CsvWriter` for states; write ``[t, position, velocity, quaternion]`` chunks."""
+    return CsvWriter(path, STATE_HEADER)
 
 
 def write_signals(path: str | Path, sig: ImuSignals) -> None:
     """Write rates or increments with the exact header of their kind."""
-    _write(path, HEADERS[sig.kind], [sig.t, sig.gyro, sig.accel])
+    with signals_writer(path, sig.kind) as w:
+        w.write([sig.t, sig.gyro, sig.accel])
 
 
 def write_states(path: str | Path, states: States) -> None:
     """Write a truth or navigation file ``t,x,y,z,vx,vy,vz,qw,qx,qy,qz``."""
-    _write(path, STATE_HEADER, [states.t, states.position, states.velocity, states.quaternion])
-
-
-def _read_csv(path: str | Path, what: str) -> tuple[tuple[str, ...], FloatArray]:
-    path = Path(path)
-    if not path.is_file():
-        raise ImunavError(f"{what} file not found: {path}")
-    with path.open(newline="") as fh:
-        reader = csv.reader(fh)
-        try:
-            header = tuple(h.strip() for h in next(reader))
-        except StopIteration:
-            raise ImunavError(f"{what} file {path} is empty") from None
-        rows = []
-        for i, row in enumerate(reader, start=2):
-            if not row or all(not c.strip() for c in row):
-                continue
-            if len(row) != len(header):
-                raise ImunavError(
-                    f"{path}, line {i}: expected {len(header)} columns, got {len(row)}"
-                )
-            try:
-                rows.append([float(c) for c in row])
-            except ValueError:
-                raise ImunavError(f"{path}, line {i}: non-numeric value in {row}") from None
-    if not rows:
-        raise ImunavError(f"{what} file {path} has a header but no data rows")
-    data = np.array(rows, dtype=np.float64)
-    if not np.all(np.isfinite(data)):
-        r, c = np.argwhere(~np.isfinite(data))[0]
-        raise ImunavError(f"{path}, line {r + 2}, column '{header[c]}': NaN or inf")
-    return header, data
-
-
-def read_signals(path: str | Path, g: float | None = None) -> ImuSignals:
-    """Read a rates or increments CSV; the kind is read from the header.
-
-    The sample rate is inferred from the time column, which must be strictly increasing and
-    uniformly spaced (to 1e-6 relative).
-    """
-    header, data = _read_csv(path, "signals")
-    kind = next((k for k, h in HEADERS.items() if header == h), None)
-    if kind is None:
-        raise ImunavError(
-            f"{path}: unrecognised header {','.join(header)!r}; expected "
-            f"{','.join(RATES_HEADER)!r} (rates) or {','.join(INCREMENTS_HEADER)!r} (increments)"
-        )
-    t = check_time(data[:, 0], f"{path}: column t")
-    if t.size < 2:
-        raise ImunavError(f"{path}: need at least 2 rows to infer the sample rate")
-    d = np.diff(t)
-    dt = (t[-1] - t[0]) / (t.size - 1)
-    if np.max(np.abs(d - dt)) > 1e-6 * dt:
-        raise ImunavError(f"{path}: time column is not uniformly spaced (needed to infer the rate)")
-    return ImuSignals(t, data[:, 1:4], data[:, 4:7], kind, 1.0 / dt, G0 if g is None else g)
-
-
-def read_states(path: str | Path) -> States:
-    """Read a truth/navigation CSV."""
-    header, data = _read_csv(path, "state")
-    if header != STATE_HEADER:
-        raise ImunavError(
-            f"{path}: unrecognised header {','.join(header)!r}; expected {','.join(STATE_HEADER)!r}"
-        )
-    t = check_time(data[:, 0], f"{path}: column t")
-    q = data[:, 7:11]
-    if np.any(np.linalg.norm(q, axis=1) < 1e-12):
-        raise ImunavError(f"{path}: quaternion columns qw,qx,qy,qz must not be all zero")
-    return States(t, data[:, 1:4], data[:, 4:7], q)
+    with states_writer(path) as w:
+        w.write([states.t, states.position, states.velocity, states.quaternion])
 
 
 def write_json(r: dict, path: str | Path) -> None:
     """Write a result dictionary (``imunav assess --json``) as indented JSON."""
-    with open(path, "w") as fh:
-        json.dump(r, fh, indent=1)
-        fh.write("\n")
+    atomic_write_text(path, json.dumps(r, indent=1) + "\n")

@@ -6,12 +6,11 @@ device's onboard orientation, where present, is returned raw (``device_t``, ``de
 its convention is checked against the gyro in ``notebooks/07_real_imu_data.ipynb`` and
 :func:`device_quaternion_convention`.
 
-May import: ``imunav.core``, ``imunav.sensors``, ``imunav.strapdown``.
+May import: ``imunav.core``, ``imunav.sensors``, ``imunav.strapdown``, ``imunav.io.csvio``.
 """
 
 from __future__ import annotations
 
-import csv
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -22,6 +21,7 @@ from imunav.core.constants import DEG, G0
 from imunav.core.rotations import FloatArray, _angle, _conj, _mul
 from imunav.core.units import factor
 from imunav.core.validation import ImunavError, check_positive
+from imunav.io.csvio import read_chunks, read_header
 from imunav.sensors.signals import ImuSignals
 from imunav.strapdown.alignment import level_attitude, remove_static_biases
 from imunav.strapdown.registry import navigate
@@ -41,20 +41,13 @@ def data_path(*parts: str) -> Path:
 
 
 def _read_table(path: Path) -> tuple[list[str], np.ndarray]:
-    if not path.is_file():
-        raise ImunavError(f"recording file not found: {path}")
-    with path.open(newline="") as fh:
-        rows = list(csv.reader(fh))
-    if len(rows) < 3:
+    """A numeric CSV with a header (every value a finite number; errors name line and column)."""
+    header = read_header(Path(path), "recording")
+    parts = list(read_chunks(path, header, "recording"))
+    data = np.concatenate(parts) if parts else np.empty((0, len(header)))
+    if len(data) < 2:
         raise ImunavError(f"{path}: needs a header and at least 2 data rows")
-    header = [h.strip() for h in rows[0]]
-    try:
-        data = np.array([[float(c) for c in r] for r in rows[1:] if r], dtype=float)
-    except ValueError as exc:
-        raise ImunavError(f"{path}: non-numeric value ({exc})") from None
-    if data.ndim != 2 or data.shape[1] != len(header):
-        raise ImunavError(f"{path}: rows do not all have {len(header)} columns")
-    return header, data
+    return list(header), data
 
 
 def _uniform_rate(t: FloatArray, path, jitter: float = 0.05) -> float:

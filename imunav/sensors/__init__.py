@@ -11,17 +11,18 @@ May import: ``imunav.core``, ``imunav.motion``.
 from imunav.sensors.allan import allan_deviation, gauss_markov_allan_variance
 from imunav.sensors.models import (
     ImuModel,
+    MeasureStream,
     TriadModel,
+    TriadStream,
     apply_triad,
     bias_instability_sigma,
-    error_processes,
     measure,
 )
 from imunav.sensors.presets import PRESETS
 from imunav.sensors.signals import KINDS, ImuSignals
 from imunav.sensors.simulate import integrate_intervals, sample_times, simulate_imu, truth_states
 
-__all__ = ["KINDS", "PRESETS", "ImuModel", "ImuSignals", "TriadModel", "allan_deviation",
-           "apply_triad", "bias_instability_sigma", "error_processes",
+__all__ = ["KINDS", "PRESETS", "ImuModel", "ImuSignals", "MeasureStream", "TriadModel",
+           "TriadStream", "allan_deviation", "apply_triad", "bias_instability_sigma",
            "gauss_markov_allan_variance", "integrate_intervals", "measure", "sample_times",
            "simulate_imu", "truth_states"]

@@ -151,96 +151,139 @@ def bias_instability_sigma(B: float, T: float | None) -> float:
     return B / float(np.sqrt(var.max()))
 
 
-def _gauss_markov(rng, n: int, dt: float, sigma: float, T: float) -> FloatArray:
-    from scipy.signal import lfilter
+class TriadStream:
+    """One run of one triad's errors, applied to ideal samples fed in consecutive chunks.
 
-    a = np.exp(-dt / T)
-    w = rng.normal(0.0, sigma * np.sqrt(1 - a * a), (n, 3))
-    w[0] = rng.normal(0.0, sigma, 3)          # start in the stationary distribution
-    return lfilter([1.0], [1.0, -a], w, axis=0)
+    The constant terms (turn-on bias, scale factor and misalignment matrix, g-sensitivity) are
+    drawn from ``rng`` when the stream is created; every time-varying sequence (each
+    Gauss–Markov component, the random walk, the white noise) then draws from its own child
+    generator, and the filters carry their state, so the output of a run does not depend on
+    how it is chunked. Chunk lengths must be multiples of ``decimate`` (but the last).
 
+    ``kind`` is ``rates`` (samples in rate units) or ``increments`` (integrals over each
+    ``1/rate`` interval); the output is at ``rate/decimate``.
+    """
 
-def error_processes(m: TriadModel, rng, n: int, dt: float) -> dict[str, FloatArray]:
-    """Per-run draws: constant matrix/bias terms and the time-correlated bias (n, 3)."""
-    out = {"bias": rng.normal(0.0, m.bias, 3) if m.bias else np.zeros(3)}
-    M = np.eye(3)
-    if m.scale_factor:
-        M = M + np.diag(rng.normal(0.0, m.scale_factor, 3))
-    if m.misalignment:
-        off = rng.normal(0.0, m.misalignment, (3, 3))
-        np.fill_diagonal(off, 0.0)
-        M = M + off
-    out["matrix"] = M
-    out["g_sens"] = rng.normal(0.0, m.g_sensitivity, (3, 3)) if m.g_sensitivity else None
-    drift = np.zeros((n, 3))
-    if m.bias_instability:
-        s = bias_instability_sigma(m.bias_instability, m.bias_correlation_time)
-        for T in _flicker_bank(m.bias_correlation_time):
-            drift += _gauss_markov(rng, n, dt, s, T)
-    if m.random_walk:
-        drift += np.cumsum(rng.normal(0.0, m.random_walk * np.sqrt(dt), (n, 3)), axis=0)
-    out["drift"] = drift
-    return out
+    def __init__(self, m: TriadModel, kind: str, rate: float, rng: np.random.Generator,
+                 decimate: int = 1):
+        self.m, self.kind, self.k = m, kind, int(decimate)
+        self.rate = check_positive(rate, "rate")
+        self.dt = 1.0 / self.rate
+        self.bias = rng.normal(0.0, m.bias, 3) if m.bias else np.zeros(3)
+        M = np.eye(3)
+        if m.scale_factor:
+            M = M + np.diag(rng.normal(0.0, m.scale_factor, 3))
+        if m.misalignment:
+            off = rng.normal(0.0, m.misalignment, (3, 3))
+            np.fill_diagonal(off, 0.0)
+            M = M + off
+        self.matrix = M
+        self.g_sens = rng.normal(0.0, m.g_sensitivity, (3, 3)) if m.g_sensitivity else None
+        self.gm = []                          # [rng, a, innovation σ, previous value]
+        if m.bias_instability:
+            sd = bias_instability_sigma(m.bias_instability, m.bias_correlation_time)
+            for T in _flicker_bank(m.bias_correlation_time):
+                child = rng.spawn(1)[0]
+                a = float(np.exp(-self.dt / T))
+                # the value before the first sample is drawn from the stationary distribution
+                self.gm.append([child, a, sd * np.sqrt(1 - a * a), child.normal(0.0, sd, 3)])
+        self.rw_rng = rng.spawn(1)[0] if m.random_walk else None
+        self.rw = np.zeros(3)
+        self.noise_rng = rng.spawn(1)[0] if m.noise_density else None
+        self.sos = None
+        if m.bandwidth and m.bandwidth < 0.5 * self.rate:
+            from scipy.signal import butter
 
+            self.sos = butter(2, m.bandwidth, fs=self.rate, output="sos")
+            self.zi = np.zeros((self.sos.shape[0], 2, 3))
+        self.total = np.zeros(3)              # increments: exact running sum (quantisation)
+        self.qtotal = np.zeros(3)             # increments: quantised running sum
 
-def _lowpass(x: FloatArray, fc: float, fs: float, axis: int) -> FloatArray:
-    from scipy.signal import butter, sosfilt
+    def _drift(self, n: int) -> FloatArray:
+        from scipy.signal import lfilter
 
-    if fc >= 0.5 * fs:
-        return x
-    return sosfilt(butter(2, fc, fs=fs, output="sos"), x, axis=axis)
+        drift = np.zeros((n, 3))
+        for st in self.gm:
+            child, a, sw, prev = st
+            w = child.normal(0.0, sw, (n, 3))
+            y, _ = lfilter([1.0], [1.0, -a], w, axis=0, zi=(a * prev)[None])
+            drift += y
+            st[3] = y[-1]
+        if self.rw_rng is not None:
+            walk = np.cumsum(self.rw_rng.normal(0.0, self.m.random_walk * np.sqrt(self.dt),
+                                                (n, 3)), axis=0) + self.rw
+            self.rw = walk[-1]
+            drift += walk
+        return drift
+
+    def process(self, ideal: FloatArray, other: FloatArray | None = None
+                ) -> tuple[FloatArray, np.ndarray]:
+        """Ideal samples (n, 3) → measured samples (n/decimate, 3) and the saturation flag of
+        each output sample. ``other``: the ideal accelerometer chunk (gyro g-sensitivity)."""
+        m, k, dt = self.m, self.k, self.dt
+        n = ideal.shape[0]
+        x = ideal / dt if self.kind == "increments" else ideal          # rate units
+        y = x @ self.matrix.T + self.bias + self._drift(n)
+        if self.g_sens is not None and other is not None:
+            f = other / dt if self.kind == "increments" else other
+            y = y + f @ self.g_sens.T
+        if self.noise_rng is not None:
+            y = y + self.noise_rng.normal(0.0, m.noise_density * np.sqrt(self.rate), (n, 3))
+        if self.sos is not None:
+            from scipy.signal import sosfilt
+
+            y, self.zi = sosfilt(self.sos, y, axis=0, zi=self.zi)
+        flags = np.zeros(n, dtype=bool)
+        if m.range:
+            flags = np.any(np.abs(y) > m.range, axis=1)
+            y = np.clip(y, -m.range, m.range)
+        if k > 1:
+            nn = n // k
+            if self.kind == "increments":
+                y = y[: nn * k].reshape(nn, k, 3).mean(axis=1)     # Σ increments / (k·dt)
+                flags = flags[: nn * k].reshape(nn, k).any(axis=1)
+            else:
+                y, flags = y[::k], flags[::k]                      # the output instants
+        if self.kind == "increments":
+            y = y * (dt * k)
+            if m.resolution:
+                q = m.resolution * dt * k
+                total = self.total + np.cumsum(y, axis=0)          # residual carry: no loss
+                qt = np.round(total / q) * q
+                y = np.diff(qt, axis=0, prepend=self.qtotal[None])
+                self.total, self.qtotal = total[-1], qt[-1]
+        elif m.resolution:
+            y = np.round(y / m.resolution) * m.resolution
+        return y, flags
 
 
 def apply_triad(m: TriadModel, ideal: FloatArray, kind: str, rate: float, rng,
                 other: FloatArray | None = None, decimate: int = 1
                 ) -> tuple[FloatArray, np.ndarray]:
-    """One run of one triad: ideal signal (n, 3) at ``rate`` → measured signal at
-    ``rate/decimate`` and the saturation flags per output sample.
+    """One run of one triad on a whole signal: ideal (n, 3) at ``rate`` → measured signal at
+    ``rate/decimate`` and the saturation flags per output sample (a :class:`TriadStream` fed
+    once). ``other`` is the ideal accelerometer signal (same kind) for the gyro's
+    g-sensitivity."""
+    return TriadStream(m, kind, rate, rng, decimate).process(ideal, other)
 
-    ``kind`` is ``rates`` (values in rate units) or ``increments`` (integrals over each
-    1/rate interval). ``other`` is the ideal accelerometer signal (same kind) for the gyro's
-    g-sensitivity.
-    """
-    n = ideal.shape[0]
-    dt = 1.0 / rate
-    p = error_processes(m, rng, n, dt)
-    x = ideal / dt if kind == "increments" else ideal          # work in rate units
-    y = x @ p["matrix"].T + p["bias"] + p["drift"]
-    if p["g_sens"] is not None and other is not None:
-        f = other / dt if kind == "increments" else other
-        y = y + f @ p["g_sens"].T
-    if m.noise_density:
-        y = y + rng.normal(0.0, m.noise_density * np.sqrt(rate), (n, 3))
-    if m.bandwidth:
-        y = _lowpass(y, m.bandwidth, rate, axis=0)
-    flags = np.zeros(n, dtype=bool)
-    if m.range:
-        flags = np.any(np.abs(y) > m.range, axis=1)
-        y = np.clip(y, -m.range, m.range)
-    if decimate > 1:
-        k = decimate
-        nn = n // k
-        if kind == "increments":
-            y = y[: nn * k].reshape(nn, k, 3).mean(axis=1)     # sum of increments / (k·dt)
-            flags = flags[: nn * k].reshape(nn, k).any(axis=1)
-        else:
-            y, flags = y[::k], flags[::k]                      # samples at the output instants
-        dt = dt * k
-    if kind == "increments":
-        y = y * dt
-        if m.resolution:
-            q = m.resolution * dt
-            total = np.cumsum(y, axis=0)                       # residual carry: no loss
-            y = np.diff(np.round(total / q) * q, axis=0, prepend=np.zeros((1, 3)))
-    elif m.resolution:
-        y = np.round(y / m.resolution) * m.resolution
-    return y, flags
+
+class MeasureStream:
+    """One run of a 6-axis IMU: ideal gyro and accel chunks → measured chunks and flags."""
+
+    def __init__(self, model: ImuModel, kind: str, rate: float, rng: np.random.Generator,
+                 decimate: int = 1):
+        g2 = np.random.default_rng(rng.integers(2**63))
+        self.gyro = TriadStream(model.gyro, kind, rate, g2, decimate)
+        self.accel = TriadStream(model.accel, kind, rate, rng, decimate)
+
+    def process(self, gyro: FloatArray, accel: FloatArray
+                ) -> tuple[FloatArray, FloatArray, np.ndarray]:
+        gm, fg = self.gyro.process(gyro, other=accel)
+        am, fa = self.accel.process(accel)
+        return gm, am, fg | fa
 
 
 def measure(model: ImuModel, gyro: FloatArray, accel: FloatArray, kind: str, rate: float,
             rng, decimate: int = 1) -> tuple[FloatArray, FloatArray, np.ndarray]:
     """One run: ideal gyro and accel (n, 3) → measured (gyro, accel, saturation flags)."""
-    g2, rg = np.random.default_rng(rng.integers(2**63)), rng
-    gm, fg = apply_triad(model.gyro, gyro, kind, rate, g2, other=accel, decimate=decimate)
-    am, fa = apply_triad(model.accel, accel, kind, rate, rg, decimate=decimate)
-    return gm, am, fg | fa
+    return MeasureStream(model, kind, rate, rng, decimate).process(gyro, accel)

@@ -11,34 +11,55 @@ Two output kinds:
 
 ``N = round(duration × rate)``.
 
-May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors.signals``.
+Every simulation is produced in chunks of :data:`CHUNK` samples (:func:`ideal_chunks`,
+:func:`measured_chunks`), so the command line streams any duration to a file; the in-memory
+:func:`simulate_imu` collects the same chunks.
+
+May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors.signals``,
+``imunav.sensors.models``.
 """
 
 from __future__ import annotations
+
+from collections.abc import Iterator
 
 import numpy as np
 import numpy.typing as npt
 
 from imunav.core.constants import G0
+from imunav.core.resources import check_memory
 from imunav.core.rotations import FloatArray
 from imunav.core.states import States
-from imunav.core.validation import ImunavError, as_float_array, check_gravity, check_positive
+from imunav.core.validation import (
+    ImunavError,
+    as_float_array,
+    check_gravity,
+    check_int,
+    check_positive,
+)
 from imunav.motion.base import BaseMotion
+from imunav.sensors.models import MeasureStream
 from imunav.sensors.signals import KINDS, ImuSignals
 
-__all__ = ["integrate_intervals", "sample_times", "simulate_imu", "truth_states"]
+__all__ = ["ideal_chunks", "integrate_intervals", "interval_count", "measured_chunks",
+           "sample_times", "simulate_imu", "truth_states"]
+
+
+def interval_count(rate: float, duration: float) -> int:
+    """``N = round(duration × rate)`` sample intervals (N ≥ 1), or an ImunavError."""
+    rate = check_positive(rate, "rate")
+    duration = check_positive(duration, "duration")
+    n = round(duration * rate)
+    if n < 1:
+        raise ImunavError(f"duration × rate must give at least one sample interval, got "
+                          f"{duration:g} s × {rate:g} Hz")
+    return int(n)
 
 
 def sample_times(rate: float, duration: float, t0: float = 0.0) -> FloatArray:
     """``t_k = t0 + k/rate`` for ``k = 0..N``, ``N = round(duration × rate)`` (N ≥ 1)."""
-    rate = check_positive(rate, "rate")
-    duration = check_positive(duration, "duration")
-    n = int(round(duration * rate))
-    if n < 1:
-        raise ImunavError(
-            f"duration × rate must give at least one sample interval, got {duration} s × {rate} Hz"
-        )
-    return t0 + np.arange(n + 1) / rate
+    n = interval_count(rate, duration)
+    return float(t0) + np.arange(n + 1) / check_positive(rate, "rate")
 
 
 def truth_states(motion: BaseMotion, t: npt.ArrayLike) -> States:
@@ -109,9 +130,79 @@ def integrate_intervals(f, a: npt.ArrayLike, b: npt.ArrayLike, *, rtol: float = 
     return out
 
 
+#: Samples per chunk of the simulation (the working set of one chunk stays small).
+CHUNK = 1 << 16
+
+#: Most samples one simulation may compute (at the sensor's internal rate): about three hours
+#: at a microsecond per sample. Beyond it a run is refused before it starts.
+MAX_SAMPLES = 10_000_000_000
+
+
+def check_work(n: int, rate: float, what: str = "this simulation") -> None:
+    """Refuse a simulation of more than :data:`MAX_SAMPLES` samples, with the estimate."""
+    if n > MAX_SAMPLES:
+        raise ImunavError(f"{what} would compute {n:.3g} samples at {rate:g} Hz (hours to days); "
+                          f"the limit is {MAX_SAMPLES:.0e}: lower the rate or the duration")
+
+
+def _duration(motion: BaseMotion, duration) -> float:
+    if duration is None:
+        duration = motion.duration
+        if duration is None:
+            raise ImunavError("duration must be given (the motion has no default duration)")
+    return check_positive(duration, "duration")
+
+
+def ideal_chunks(motion: BaseMotion, rate: float, duration: float | None = None, *,
+                 output: str = "rates", g: float = G0, t0: float = 0.0, chunk: int = CHUNK
+                 ) -> Iterator[tuple[FloatArray, FloatArray, FloatArray]]:
+    """The ideal signals of :func:`simulate_imu` as consecutive ``(t, gyro, accel)`` chunks of at
+    most ``chunk`` samples (bounded memory for any duration)."""
+    if output not in KINDS:
+        raise ImunavError(f"output must be one of {KINDS}, got {output!r}")
+    duration = _duration(motion, duration)
+    rate = check_positive(rate, "rate")
+    g = check_gravity(g)
+    t0 = float(as_float_array(t0, "t0", ndim=0))
+    n = interval_count(rate, duration)
+    check_work(n, rate)
+    first, last = (0, n + 1) if output == "rates" else (1, n + 1)      # sample indices k
+    for lo in range(first, last, chunk):
+        k = np.arange(lo, min(last, lo + chunk))
+        t = t0 + k / rate
+        if output == "rates":
+            yield t, motion.angular_rate(t), motion.specific_force(t, g)
+        else:
+            a = t0 + (k - 1) / rate
+            yield (t, integrate_intervals(motion.angular_rate, a, t),
+                   integrate_intervals(lambda s: motion.specific_force(s, g), a, t))
+
+
+def measured_chunks(motion: BaseMotion, model, rate: float, duration: float | None = None, *,
+                    output: str = "rates", g: float = G0, t0: float = 0.0, seed: int = 0,
+                    chunk: int = CHUNK, on_clip=None
+                    ) -> Iterator[tuple[FloatArray, FloatArray, FloatArray]]:
+    """``(t, gyro, accel)`` chunks of what ``model`` (an :class:`~imunav.sensors.models.ImuModel`)
+    outputs on ``motion`` at ``rate``: the ideal signals at the sensor's internal rate, then its
+    errors (run 0 of the Monte Carlo streams of ``seed``: ``SeedSequence(seed).spawn(1)[0]``).
+    ``on_clip(count)`` is called with the number of clipped output samples of each chunk."""
+    seed = check_int(seed, "seed")
+    k = model.decimation(rate)
+    rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0])
+    stream = MeasureStream(model, output, rate * k, rng, k)
+    size = max(k, chunk // k * k)
+    for t, gyro, accel in ideal_chunks(motion, rate * k, duration, output=output, g=g, t0=t0,
+                                       chunk=size):
+        gm, am, flags = stream.process(gyro, accel)
+        if on_clip is not None and flags.any():
+            on_clip(int(flags.sum()))
+        yield (t[::k] if output == "rates" else t[k - 1::k][: gm.shape[0]]), gm, am
+
+
 def simulate_imu(motion: BaseMotion, rate: float, duration: float | None = None, *,
-                 output: str = "rates", g: float = G0, t0: float = 0.0) -> ImuSignals:
-    """Ideal (error-free) IMU output for ``motion``.
+                 output: str = "rates", g: float = G0, t0: float = 0.0, imu=None,
+                 seed: int = 0) -> ImuSignals:
+    """IMU output for ``motion``: ideal, or with the errors of ``imu``.
 
     Parameters
     ----------
@@ -127,27 +218,32 @@ def simulate_imu(motion: BaseMotion, rate: float, duration: float | None = None,
         Gravity magnitude (m/s²), ``g_n = [0, 0, +g]``.
     t0 : float
         Start time (s).
+    imu : ImuModel, optional
+        Sensor errors to add (a preset via ``ImuModel.load("BMI088")``); ideal if None.
+    seed : int
+        Random seed for ``imu`` (the same stream as run 0 of a Monte Carlo with this seed).
 
     Returns
     -------
     ImuSignals
+
+    Raises
+    ------
+    ImunavError
+        Also when the arrays would not fit in memory (the command line streams to a file
+        instead, for any duration).
     """
-    if output not in KINDS:
-        raise ImunavError(f"output must be one of {KINDS}, got {output!r}")
-    if duration is None:
-        duration = motion.duration
-        if duration is None:
-            raise ImunavError("duration must be given (the motion has no default duration)")
-    g = check_gravity(g)
-    t = sample_times(rate, duration, float(t0))
-    if output == "rates":
-        gyro = motion.angular_rate(t)
-        accel = motion.specific_force(t, g)
-        ts = t
+    duration = _duration(motion, duration)
+    n = interval_count(rate, duration)
+    k = 1 if imu is None else imu.decimation(rate)
+    check_memory(8 * 7 * (n + 1) * (1 + k) + 64e6, f"simulating {n:,} samples",
+                 "the command line (imunav simulate) streams any length to a file")
+    if imu is None:
+        chunks = ideal_chunks(motion, rate, duration, output=output, g=g, t0=t0)
     else:
-        a, b = t[:-1], t[1:]
-        gyro = integrate_intervals(motion.angular_rate, a, b)
-        accel = integrate_intervals(lambda s: motion.specific_force(s, g), a, b)
-        ts = b
-    return ImuSignals(ts, gyro, accel, output, float(rate), g,
+        chunks = measured_chunks(motion, imu, rate, duration, output=output, g=g, t0=t0,
+                                 seed=seed)
+    parts = list(chunks)
+    t, gyro, accel = (np.concatenate([p[i] for p in parts]) for i in range(3))
+    return ImuSignals(t, gyro, accel, output, float(rate), g,
                       meta={"motion": getattr(motion, "name", "motion"), "t0": float(t0)})

@@ -171,8 +171,10 @@ class StreamNavigator:
     """
 
     def __init__(self, kind: str, rate: float, q0, v0, p0, g: float = G0, *,
-                 algorithm: str | None = None, runs: int | None = None, chunk: int = CHUNK):
+                 algorithm: str | None = None, runs: int | None = None, chunk: int = CHUNK,
+                 t0: float = 0.0):
         self.algo = resolve(kind, algorithm)
+        self.t0 = float(t0)
         self.h = 1.0 / check_positive(rate, "rate")
         self.g = check_gravity(g)
         self.state = (q0, v0, p0)
@@ -198,7 +200,15 @@ class StreamNavigator:
         w0 = max(0, lo - self.before)
         w1 = min(end, hi + self.own + self.after)
         g, a = self._window(w0, w1)
-        q, v, p = self.algo.func(g, a, self.h, *self.state, self.g, lo - w0, hi - lo)
+        with np.errstate(all="ignore"):                           # checked just below
+            q, v, p = self.algo.func(g, a, self.h, *self.state, self.g, lo - w0, hi - lo)
+        ok = np.isfinite(q).all(axis=-1) & np.isfinite(v).all(axis=-1) & np.isfinite(p).all(axis=-1)
+        if not ok.all():
+            k = lo + int(np.argmin(ok.reshape(len(ok), -1).all(axis=1)))
+            big = float(max(np.abs(g).max(), np.abs(a).max()))
+            raise ImunavError(
+                f"navigation became non-finite at t = {self.t0 + k * self.h:.9g} s: the signals "
+                f"are too large to integrate (up to {big:.3g} in SI units); check their units")
         self.state = (q[-1], v[-1], p[-1])
         self.next = hi
         keep = max(self.buf_start, hi - self.before)               # drop what is not context
@@ -275,7 +285,8 @@ def navigate(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike = (0.0, 0
     if len(signals) < algo.min_samples:
         raise ImunavError(f"{signals.kind} signals need at least {algo.min_samples} samples, "
                           f"got {len(signals)}")
-    nav = StreamNavigator(signals.kind, signals.rate, q0, v0, p0, g, algorithm=algo.name)
+    nav = StreamNavigator(signals.kind, signals.rate, q0, v0, p0, g, algorithm=algo.name,
+                          t0=signals.t0)
     q, v, p = _collect(nav, signals.gyro, signals.accel, q0, v0, p0)
     return States(signals.state_times(), p, v, q, algo.name)
 
