@@ -202,8 +202,10 @@ class StreamNavigator:
         g, a = self._window(w0, w1)
         with np.errstate(all="ignore"):                           # checked just below
             q, v, p = self.algo.func(g, a, self.h, *self.state, self.g, lo - w0, hi - lo)
-        ok = np.isfinite(q).all(axis=-1) & np.isfinite(v).all(axis=-1) & np.isfinite(p).all(axis=-1)
-        if not ok.all():
+        # a NaN or inf propagates through every recursion to the chunk's last state
+        if not (np.isfinite(q[-1]).all() and np.isfinite(v[-1]).all() and np.isfinite(p[-1]).all()):
+            ok = (np.isfinite(q).all(axis=-1) & np.isfinite(v).all(axis=-1)
+                  & np.isfinite(p).all(axis=-1))
             k = lo + int(np.argmin(ok.reshape(len(ok), -1).all(axis=1)))
             big = float(max(np.abs(g).max(), np.abs(a).max()))
             raise ImunavError(
@@ -244,10 +246,17 @@ def _collect(nav: StreamNavigator, gyro, accel, q0, v0, p0) -> tuple[FloatArray,
     p = np.empty_like(v)
     q[0], v[0], p[0] = quat_normalize(q0), v0, p0
     k = 1
-    for qc, vc, pc in nav.feed(gyro, accel) + nav.finish():
-        m = qc.shape[0]
-        q[k:k + m], v[k:k + m], p[k:k + m] = qc, vc, pc
-        k += m
+
+    def store(parts):
+        nonlocal k
+        for qc, vc, pc in parts:
+            m = qc.shape[0]
+            q[k:k + m], v[k:k + m], p[k:k + m] = qc, vc, pc
+            k += m
+
+    for lo in range(0, gyro.shape[0], nav.chunk):        # a chunk at a time: bounded memory
+        store(nav.feed(gyro[lo:lo + nav.chunk], accel[lo:lo + nav.chunk]))
+    store(nav.finish())
     return q, v, p
 
 
