@@ -14,9 +14,11 @@ from __future__ import annotations
 import math
 import re
 
+import numpy as np
+
 from imunav.core.constants import DEG
 from imunav.core.constants import G0 as G
-from imunav.core.validation import ImunavError
+from imunav.core.validation import ImunavError, show
 
 # Units by dimension: spelling (normalised: no spaces, "√X" → "sqrt(X)") → SI factor.
 _RATE = {"rad/s": 1.0, "deg/s": DEG, "dps": DEG, "mdps": 1e-3 * DEG, "deg/h": DEG / 3600,
@@ -100,8 +102,8 @@ def parse(value, key: str) -> float:
         raise ImunavError(f"unknown error parameter {key!r}; known: {known}")
     units, what = SPEC[triad][name]
     if isinstance(value, bool):
-        raise ImunavError(f"{key} must be a number or a string with units, got {value!r}")
-    if isinstance(value, int | float):
+        raise ImunavError(f"{key} must be a number or a string with units, got {show(value)}")
+    if isinstance(value, int | float | np.integer | np.floating) and not isinstance(value, np.bool_):
         v = float(value)
     elif isinstance(value, str):
         m = re.fullmatch(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*", value)
@@ -118,10 +120,10 @@ def parse(value, key: str) -> float:
         raise ImunavError(f"{key} must be a number or a string with units, got "
                           f"{type(value).__name__}")
     if not math.isfinite(v) or v < 0:
-        raise ImunavError(f"{key} must be a finite non-negative value, got {value!r}")
+        raise ImunavError(f"{key} must be a finite non-negative value, got {show(value)}")
     if name in LIMITS and not LIMITS[name][0] <= v <= LIMITS[name][1]:
         lo, hi, why = LIMITS[name]
-        raise ImunavError(f"{key} = {value!r} is outside {lo:g}–{hi:g} (SI): {why}")
+        raise ImunavError(f"{key} = {show(value)} is outside {lo:g}–{hi:g} (SI): {why}")
     return v
 
 

@@ -60,10 +60,10 @@ def check_positive(value, name: str) -> float:
     must say what they mean; the command line converts its strings before calling this.
     """
     if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
-        raise ImunavError(f"{name} must be a positive number, got {_show(value)}")
+        raise ImunavError(f"{name} must be a positive number, got {show(value)}")
     v = float(value)
     if not np.isfinite(v) or v <= 0:
-        raise ImunavError(f"{name} must be a positive finite number, got {_show(value)}")
+        raise ImunavError(f"{name} must be a positive finite number, got {show(value)}")
     return v
 
 
@@ -76,14 +76,14 @@ def check_int(value, name: str, minimum: int = 0) -> int:
     """An integer ≥ ``minimum`` (``1.7``, ``True`` and ``"3"`` are refused; ``3.0`` is not an
     integer either: counts and seeds are whole numbers)."""
     if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Integral):
-        raise ImunavError(f"{name} must be an integer ≥ {minimum}, got {_show(value)}")
+        raise ImunavError(f"{name} must be an integer ≥ {minimum}, got {show(value)}")
     v = int(value)
     if v < minimum:
         raise ImunavError(f"{name} must be an integer ≥ {minimum}, got {v}")
     return v
 
 
-def _show(value) -> str:
+def show(value) -> str:
     """A value for an error message: plain numbers, not ``np.float64(…)``."""
     if isinstance(value, np.generic):
         value = value.item()
@@ -100,8 +100,8 @@ def check_time(t: npt.ArrayLike, name: str = "t") -> np.ndarray:
         if np.any(d <= 0):
             i = int(np.argmax(d <= 0))
             raise ImunavError(
-                f"{name} must be strictly increasing; {name}[{i + 1}] = {_show(a[i + 1])} "
-                f"does not exceed {name}[{i}] = {_show(a[i])}"
+                f"{name} must be strictly increasing; {name}[{i + 1}] = {show(a[i + 1])} "
+                f"does not exceed {name}[{i}] = {show(a[i])}"
             )
     return a
 
