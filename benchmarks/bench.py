@@ -42,7 +42,6 @@ from imunav.motion.catalog import spinning_cone
 from imunav.sensors import ImuModel
 from imunav.sensors.simulate import simulate_imu
 from imunav.strapdown import exp_product, navigate, reference
-from imunav.strapdown.highorder import _GQ_W, _GQ_X, reference_tables
 
 HERE = Path(__file__).resolve().parent
 
@@ -113,7 +112,7 @@ def main(argv=None):
 
     # --- compiled reference loops (numba)
     jit = compiled_reference()
-    tables = reference_tables(N, "increments", h, 8)
+    tables = reference.poly_tables(N, h, 8)             # derived with SymPy, not the fast path
 
     def c_att():
         q, _, _ = states(N, q0)
@@ -127,7 +126,7 @@ def main(argv=None):
 
     def c_poly():
         q, v, p = states(N, q0)
-        jit["poly_navigation"](dth, dv, h, g, *tables, _GQ_X, _GQ_W, q, v, p)
+        jit["poly_navigation"](dth, dv, h, g, *tables, q, v, p)
         return q, v, p
 
     for f in (c_att, c_exp, c_poly):                              # compile outside the timing

@@ -105,13 +105,18 @@ def test_chain_shapes_are_checked():
         exp_product(np.tile([1.0, 0, 0, 0], (3, 1)), np.zeros((5, 2, 3)))
 
 
+@pytest.fixture(scope="module")
+def sympy_tables():
+    """The reference loop's stencils and tap weights, derived with SymPy (no fast-path code)."""
+    return reference.poly_tables(1500, 0.01, 8)
+
+
 @pytest.mark.parametrize("chunk", [1 << 15, 100, 7])
-def test_default_poly_navigation_matches_reference_loop(rng, monkeypatch, chunk):
-    from imunav.strapdown import highorder
-    from imunav.strapdown.highorder import _GQ_W, _GQ_X, reference_tables
+def test_default_poly_navigation_matches_reference_loop(sympy_tables, monkeypatch, chunk):
+    from imunav.strapdown import highorder, registry
 
     monkeypatch.setattr(highorder, "_POLY_CHUNK", chunk)
+    monkeypatch.setattr(registry, "CHUNK", max(chunk, 64))
     h, g, dth, dv, q, v, p = _smooth_case(1500)
-    start, offset, wq, wf = reference_tables(dth.shape[0], "increments", h, 8)
-    reference.poly_navigation(dth, dv, h, g, start, offset, wq, wf, _GQ_X, _GQ_W, q, v, p)
+    reference.poly_navigation(dth, dv, h, g, *sympy_tables, q, v, p)
     _assert_matches(_navigate(dth, dv, h, g, q, v, p, "poly8_m6"), q, v, p)

@@ -10,16 +10,7 @@ from imunav.analysis.assessment import assess
 from imunav.analysis.montecarlo import monte_carlo
 from imunav.core.units import parse
 from imunav.sensors.allan import allan_deviation
-from imunav.sensors.allan import gauss_markov_allan_variance as _gm_allan_var
-from imunav.sensors.models import (
-    ImuModel,
-    TriadModel,
-    _flicker_bank,
-    apply_triad,
-    bias_instability_sigma,
-    measure,
-)
-from imunav.sensors.presets import PRESETS
+from imunav.sensors.models import ImuModel, TriadModel, apply_triad, measure
 
 
 @pytest.mark.parametrize("value, key, si", [
@@ -47,40 +38,6 @@ def test_units(value, key, si):
 def test_unit_errors(value, key, msg):
     with pytest.raises(ImunavError, match=msg):
         parse(value, key)
-
-
-def _analytic_adev(m: TriadModel, tau):
-    var = m.noise_density**2 / tau + m.random_walk**2 * tau / 3
-    if m.bias_instability:
-        s = bias_instability_sigma(m.bias_instability, m.bias_correlation_time)
-        var = var + sum(_gm_allan_var(tau, s, T) for T in _flicker_bank(m.bias_correlation_time))
-    return np.sqrt(var)
-
-
-def _stochastic(m: TriadModel) -> TriadModel:
-    return TriadModel(noise_density=m.noise_density, bias_instability=m.bias_instability,
-                      bias_correlation_time=m.bias_correlation_time, random_walk=m.random_walk)
-
-
-@pytest.mark.parametrize("preset", [p for p in PRESETS if p != "ideal"])
-@pytest.mark.parametrize("triad", ["gyro", "accel"])
-def test_allan_self_check_every_preset(preset, triad):
-    """The simulated stationary output reproduces the specified noise density at τ = 1 s
-    (within 8 %) and the analytic Allan curve of the model, floor included (within 20 %
-    over 1–300 s; 2 h at 10 Hz, 3 axes)."""
-    m = _stochastic(getattr(ImuModel.load(preset), triad))
-    rate = 10.0
-    rng = np.random.default_rng(7)
-    y, _ = apply_triad(m, np.zeros((72_000, 3)), "rates", rate, rng)
-    taus, adev = allan_deviation(y, rate, [1, 3, 10, 30, 100, 300])
-    expected = _analytic_adev(m, taus)
-    got = adev.mean(axis=1)
-    assert got[0] == pytest.approx(expected[0], rel=0.08)
-    assert got[0] == pytest.approx(np.sqrt(m.noise_density**2 + _analytic_adev(
-        TriadModel(bias_instability=m.bias_instability,
-                   bias_correlation_time=m.bias_correlation_time), np.array([1.0]))[0] ** 2),
-        rel=0.08)
-    np.testing.assert_allclose(got, expected, rtol=0.2)
 
 
 def test_bias_instability_floor_and_rrw_slope():
@@ -152,7 +109,7 @@ WALK = Motion(x="2*sin(0.5*t)", y="t", yaw="0.3*sin(t)", roll="0.1*sin(2*t)", du
 
 def test_monte_carlo_ideal_is_exact_and_errors_grow():
     mc0 = monte_carlo(WALK, ImuModel.load("ideal"), 50.0, runs=3, progress=False)
-    assert mc0.position.max() < 1e-8
+    assert mc0.position.max() < 1e-11     # an ideal IMU: rounding only, measured 1.35e-12 m
     mc = monte_carlo(WALK, ImuModel.load("tactical"), 50.0, runs=20, seed=1, progress=False)
     env = mc.envelope()
     assert env[50][-1] < env[68][-1] < env[95][-1] and env[95][-1] > 0.01

@@ -81,16 +81,21 @@ def blast():
 def test_blast_event_meets_paper_claims(blast):
     rec, res = blast
     # paper: final resting orientation within 3° despite a brief gyro saturation
-    assert 100 < res.gyro_saturated < 3000            # measured 1452 samples (14.5 ms)
-    assert res.final_orientation_error_deg < 3.0       # measured 0.45°
+    # the synthetic event is deterministic (seed 0): 1452 clipped samples (14.5 ms at 100 kHz);
+    # the bounds allow the filter's rounding to move a sample across the threshold
+    assert 1440 <= res.gyro_saturated <= 1465
+    assert res.final_orientation_error_deg < 3.0       # the paper's bound …
+    assert res.final_orientation_error_deg == pytest.approx(0.454, abs=0.01)   # … measured 0.454°
     # the baseline correction removes most of the residual velocity and position error
-    assert res.residual_velocity_corrected < 0.2 * res.residual_velocity_uncorrected
-    assert res.final_position_error_corrected < 0.1 * res.final_position_error_uncorrected
-    # the measured shift approaches the injected one (0.2, −0.25, 0.15) g
-    np.testing.assert_allclose(res.shift / 9.80665, [0.2, -0.25, 0.15], atol=0.06)
+    # (measured 6.06 → 0.101 m/s and 6.11 → 0.209 m)
+    assert res.residual_velocity_corrected < 0.03 * res.residual_velocity_uncorrected
+    assert res.final_position_error_corrected < 0.05 * res.final_position_error_uncorrected
+    # the measured shift approaches the injected one (0.2, −0.25, 0.15) g: measured within
+    # 0.007 g (the rest is tilt: the final orientation is 0.45° off)
+    np.testing.assert_allclose(res.shift / 9.80665, [0.2, -0.25, 0.15], atol=0.015)
 
 
 def test_no_saturation_no_orientation_error():
     rec = D.record_blast(gyro_range_dps=3000.0)
     res = D.process(rec)
-    assert res.gyro_saturated == 0 and res.final_orientation_error_deg < 0.01
+    assert res.gyro_saturated == 0 and res.final_orientation_error_deg < 0.002   # measured 4.2e-4°

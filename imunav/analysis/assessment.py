@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from imunav.analysis.metrics import nav_errors
-from imunav.analysis.montecarlo import monte_carlo
+from imunav.analysis.montecarlo import MonteCarloResult, monte_carlo
 from imunav.analysis.roundtrip import initial_state
 from imunav.core.validation import check_positive
 from imunav.motion.base import BaseMotion
@@ -21,27 +21,69 @@ from imunav.strapdown.registry import navigate
 
 RATE_CANDIDATES = (1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000)
 
+#: The verdict's rules, in one place: a run is within tolerance if its *maximum* position error
+#: over the whole motion is; the IMU is SUITABLE if at least this fraction of runs are; envelopes
+#: and the error budget are this percentile; sampling alone must stay below this fraction of the
+#: tolerance for a rate to count as enough.
+SUITABLE_FRACTION = 0.95
+PERCENTILE = 95
+SAMPLING_SHARE = 0.1
+
+
+def sampling_error(motion: BaseMotion, rate: float, duration: float,
+                   output: str = "increments") -> float:
+    """Maximum position error (m) of an ideal sensor at ``rate`` with the default algorithm:
+    what sampling alone costs on this motion."""
+    sig = simulate_imu(motion, rate, duration, output=output)
+    nav = navigate(sig, *initial_state(motion, sig))
+    return float(nav_errors(nav, motion).position.max())
+
 
 def min_sample_rate(motion: BaseMotion, tolerance: float, duration: float | None = None,
                     output: str = "increments", candidates=RATE_CANDIDATES) -> float | None:
     """Smallest candidate rate at which the sampling error alone (ideal sensor, default
-    algorithm) stays below a tenth of ``tolerance`` over the whole motion."""
+    algorithm) stays within :data:`SAMPLING_SHARE` of ``tolerance`` over the whole motion."""
     duration = duration or motion.duration
     for r in candidates:
         if r * duration < 10:
             continue
-        sig = simulate_imu(motion, r, duration, output=output)
-        nav = navigate(sig, *initial_state(motion, sig))
-        if nav_errors(nav, motion).position.max() <= tolerance / 10:
+        if sampling_error(motion, r, duration, output) <= SAMPLING_SHARE * tolerance:
             return float(r)
     return None
+
+
+def verdict(mc: MonteCarloResult, tolerance: float, budget: dict[str, MonteCarloResult],
+            min_rate: float | None, *, motion: str = "motion", imu: str = "imu",
+            seed: int = 0) -> dict:
+    """The numbers of the verdict from Monte Carlo results (a pure function of them).
+
+    ``mc``: all error terms together; ``budget``: each term alone. Returns the dictionary that
+    :func:`format_verdict` prints and ``imunav assess --json`` writes.
+    """
+    tolerance = check_positive(tolerance, "tolerance")
+    within = float(np.mean(mc.position.max(axis=1) <= tolerance))
+    env = np.percentile(mc.position, PERCENTILE, axis=0)
+    over = np.nonzero(env > tolerance)[0]
+    terms = {k: float(np.percentile(b.position[:, -1], PERCENTILE)) for k, b in budget.items()}
+    return {
+        "motion": motion, "imu": imu, "rate_hz": float(mc.rate), "tolerance_m": tolerance,
+        "runs": mc.runs, "seed": seed,
+        "fraction_within_tolerance": within,
+        "suitable": within >= SUITABLE_FRACTION,
+        "time_p95_exceeds_s": float(mc.t[over[0]]) if over.size else None,
+        "final_p95_position_m": float(env[-1]),
+        "error_budget": dict(sorted(terms.items(), key=lambda kv: -kv[1])),
+        "min_rate_hz": min_rate,
+        "saturated_runs": int(np.sum(mc.saturated > 0)),
+    }
 
 
 def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int, tolerance: float,
            seed: int = 0, duration: float | None = None, output: str = "increments",
            budget_runs: int | None = None, scheduler: str | None = None,
            progress: bool = True) -> dict:
-    """The applicability verdict: the numbers of ``imunav assess`` (see :func:`format_verdict`).
+    """The applicability verdict: the numbers of ``imunav assess`` (see :func:`verdict` and
+    :func:`format_verdict`).
 
     ``error_budget``: each error term alone (same seed, ``budget_runs`` runs, default
     min(runs, 200)) → final 95th-percentile position error (m).
@@ -49,25 +91,12 @@ def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int, toleranc
     tolerance = check_positive(tolerance, "tolerance")
     mc = monte_carlo(motion, model, rate, duration, runs, seed, output, scheduler=scheduler,
                      progress=progress)
-    within = float(np.mean(mc.position.max(axis=1) <= tolerance))
-    p95 = np.percentile(mc.position, 95, axis=0)
-    over = np.nonzero(p95 > tolerance)[0]
-    budget = {}
     br = budget_runs or min(runs, 200)
-    for term in model.terms():
-        b = monte_carlo(motion, model.only(term), rate, duration, br, seed, output,
-                        scheduler=scheduler, progress=False)
-        budget[term] = float(np.percentile(b.position[:, -1], 95))
-    return {
-        "motion": getattr(motion, "name", "motion"), "imu": model.name, "rate_hz": float(rate),
-        "tolerance_m": tolerance, "runs": runs, "seed": seed,
-        "fraction_within_tolerance": within,
-        "time_p95_exceeds_s": float(mc.t[over[0]]) if over.size else None,
-        "final_p95_position_m": float(p95[-1]),
-        "error_budget": dict(sorted(budget.items(), key=lambda kv: -kv[1])),
-        "min_rate_hz": min_sample_rate(motion, tolerance, duration, output),
-        "saturated_runs": int(np.sum(mc.saturated > 0)),
-    }
+    budget = {term: monte_carlo(motion, model.only(term), rate, duration, br, seed, output,
+                                scheduler=scheduler, progress=False)
+              for term in model.terms()}
+    return verdict(mc, tolerance, budget, min_sample_rate(motion, tolerance, duration, output),
+                   motion=getattr(motion, "name", "motion"), imu=model.name, seed=seed)
 
 
 def format_verdict(r: dict) -> str:
@@ -75,9 +104,10 @@ def format_verdict(r: dict) -> str:
     pct = 100 * r["fraction_within_tolerance"]
     lines = [f"IMU {r['imu']} on motion {r['motion']} at {r['rate_hz']:g} Hz, "
              f"{r['runs']} runs (seed {r['seed']}), tolerance {r['tolerance_m']:g} m:"]
-    ok = pct >= 95
+    ok = r.get("suitable", r["fraction_within_tolerance"] >= SUITABLE_FRACTION)
     lines.append(f"  {'SUITABLE' if ok else 'NOT SUITABLE'}: {pct:.1f} % of runs stay within "
-                 f"{r['tolerance_m']:g} m over the whole motion.")
+                 f"{r['tolerance_m']:g} m over the whole motion (needed: "
+                 f"{100 * SUITABLE_FRACTION:g} %).")
     if r["time_p95_exceeds_s"] is None:
         lines.append("  The 95th percentile of the position error never exceeds the tolerance "
                      f"(final {r['final_p95_position_m']:.3g} m).")
@@ -92,7 +122,7 @@ def format_verdict(r: dict) -> str:
             val = f"{v:10.3g}" if v >= 1e-9 else f"{'< 1e-9':>10s}"   # below: rounding
             lines.append(f"    {k:28s} {val} m")
     mr = r["min_rate_hz"]
-    lines.append("  Sampling alone stays below a tenth of the tolerance from "
+    lines.append(f"  Sampling alone stays below {SAMPLING_SHARE:g} × the tolerance from "
                  + (f"{mr:g} Hz." if mr else "no tested rate (≤ 5 kHz)."))
     if r["saturated_runs"]:
         lines.append(f"  Warning: {r['saturated_runs']} runs hit the sensor range (clipped).")

@@ -253,17 +253,3 @@ def navigate_poly(kind: str, gyro: FloatArray, accel: FloatArray, h: float, q0: 
     np.cumsum(p[1:], axis=0, out=p[1:])
     p[1:] += p[0]
     return q, v, p
-
-
-def reference_tables(n: int, kind: str, h: float, m: int, order: int = 6):
-    """``start, offset, wq, wf`` for :func:`imunav.reference.poly_navigation`: the stencil of
-    every interval and the tap weights of every stencil offset, at the Magnus nodes of the
-    whole interval followed by those of each partial interval ``[0, sᵢ]`` (wq), and at the
-    quadrature nodes (wf) — the same tables :func:`navigate_poly` uses."""
-    nodes, _ = _MAGNUS[order]
-    fit = LocalFit(np.zeros((n, 3)), kind, h, m)
-    s_all = np.concatenate([nodes] + [si * nodes for si in _GQ_X])
-    offs = range(int(fit.offset.max()) + 1)
-    wq = np.array([fit.weights(o, s_all) for o in offs])
-    wf = np.array([fit.weights(o, _GQ_X) for o in offs])
-    return fit.start, fit.offset, wq, wf

@@ -12,7 +12,9 @@ purposes:
 
 They use only ``math``, indexing and ``np.zeros``, so numba compiles them unchanged. Each writes into
 preallocated output arrays ``q (N+1, 4)``, ``v (N+1, 3)``, ``p (N+1, 3)`` whose first row holds
-the initial state.
+the initial state. The tables the high-order loop needs (each interval's stencil and the tap
+weights of the fitted polynomial) are derived here independently of the fast path:
+:func:`poly_tables` builds the interpolating polynomial with SymPy and reads the weights off it.
 
 May import: nothing from imunav (numba must compile every function unchanged).
 """
@@ -171,3 +173,46 @@ def poly_navigation(dth, dv, h, g, start, offset, wq, wf, gx, gw, q, v, p):
             gz = g if c == 2 else 0.0
             v[k + 1, c] = v[k, c] + (a[c] + gz * h)
             p[k + 1, c] = p[k, c] + ((d[c] + gz * h * h / 2) + h * v[k, c])
+
+
+# ------------------------------------------------------------- tables, derived independently
+
+def poly_tables(n: int, h: float, m: int = 8):
+    """``start, offset, wq, wf, gx, gw`` for :func:`poly_navigation` on ``n`` increments: each
+    interval's stencil (the ``m`` cumulative-sum nodes centred on it, shifted inward at the ends)
+    and the tap weights of the rate ``ω = S'(x)/h`` of the polynomial ``S`` through the
+    cumulative sums, at the sixth-order Magnus nodes of the interval and of its partial
+    intervals ``[0, sᵢ]`` (``wq``) and at the 3-point Gauss nodes (``wf``).
+
+    Written from the definitions with SymPy (``interpolate``, ``diff``, exact arithmetic),
+    sharing no code with :mod:`imunav.strapdown.highorder`: the oracle's weights are its own.
+    """
+    import sympy as sp
+
+    n_nodes = n + 1
+    m = min(m, n_nodes)
+    start = np.zeros(n, dtype=np.int64)
+    offset = np.zeros(n, dtype=np.int64)
+    for k in range(n):                               # interval k spans nodes k and k + 1
+        st = k - (m // 2 - 1)
+        st = max(0, min(st, n_nodes - m))
+        start[k], offset[k] = st, k - st
+    r15 = sp.sqrt(15)
+    g = [sp.Rational(1, 2) - r15 / 10, sp.Rational(1, 2), sp.Rational(1, 2) + r15 / 10]
+    gx = [float(x) for x in g]
+    gw = np.array([5 / 18, 8 / 18, 5 / 18])
+    s_q = [x for x in g] + [si * x for si in g for x in g]      # whole interval, then [0, sᵢ]
+    x = sp.Symbol("x")
+    d = sp.symbols(f"d0:{m - 1}")                                 # the m − 1 increments
+    S = [sum(d[:j], sp.Integer(0)) for j in range(m)]             # cumulative sums at the nodes
+    rate = sp.diff(sp.interpolate(list(zip(range(m), S, strict=True)), x), x)
+    offs = int(offset.max()) + 1
+    wq = np.zeros((offs, len(s_q), m - 1))
+    wf = np.zeros((offs, 3, m - 1))
+    for o in range(offs):
+        for table, points in ((wq, s_q), (wf, g)):
+            for j, sj in enumerate(points):
+                val = sp.expand(rate.subs(x, o + sj))
+                for i in range(m - 1):
+                    table[o, j, i] = float(sp.N(val.coeff(d[i]), 30)) / h
+    return start, offset, wq, wf, np.array(gx), gw
