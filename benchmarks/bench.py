@@ -10,7 +10,11 @@ inside the timed call for every implementation (the compiled loops included).
   arithmetic) JIT-compiled with numba;
 - ahrs ``AngularRate`` (closed form, the same q ⊗ exp(ω Δt) update) on 1e5 rate samples,
   scaled to 1e6;
-- imunav ``simulate_imu`` of 1e6 increments (adaptive Gauss–Legendre quadrature);
+- imunav ``simulate_imu`` of 1e6 increments (Chebyshev blocks) against 1e6 rate samples of the
+  same motion (the figure-eight laws): ``simulate_increments_over_rates``; pyins'
+  ``generate_imu`` (``sensor_type="increment"``) on the same motion and sample times when pyins
+  is installed (``pyins_simulate_over_imunav``; it is not on PyPI, so ``make bench`` cannot
+  install it: the ratio is then recorded as null with the reason);
 - Monte Carlo of 1000 runs × 6000 samples (simulate + sensor errors + navigate) vs the single
   long run's throughput (simulate + navigate of 1e6 samples);
 - peak memory (tracemalloc, numpy allocations) of the 1e6-sample default navigation over the
@@ -38,7 +42,7 @@ import numpy as np
 
 import imunav
 from imunav.analysis.montecarlo import monte_carlo
-from imunav.motion.catalog import spinning_cone
+from imunav.motion.catalog import figure_eight, spinning_cone
 from imunav.sensors import ImuModel
 from imunav.sensors.simulate import simulate_imu
 from imunav.strapdown import exp_product, navigate, reference
@@ -65,6 +69,27 @@ def compiled_reference():
     return {"exp_attitude": reference.exp_attitude,
             "exp_navigation": numba.njit(reference.exp_navigation),
             "poly_navigation": numba.njit(reference.poly_navigation)}
+
+
+def pyins_generate(motion, t, rate):
+    """Time pyins' ``generate_imu`` (increments) on ``motion`` at the times ``t`` (the
+    same sample times imunav used), if pyins is installed. Position goes to latitude, longitude
+    and altitude through a local flat-earth approximation (Earth rotation does not matter for
+    timing). Returns ``(seconds or None, note)``."""
+    try:
+        from pyins import sim
+    except ImportError:
+        return None, ("pyins is not installed (it is not on PyPI; pip install "
+                      "git+https://github.com/nmayorov/pyins to measure)")
+    tt = np.concatenate([[t[0] - 1 / rate], t])
+    r = motion.position(tt)
+    lat0, R = 45.0, 6378137.0
+    lla = np.column_stack([lat0 + np.degrees(r[:, 0] / R),
+                           np.degrees(r[:, 1] / (R * np.cos(np.radians(lat0)))), -r[:, 2]])
+    ypr = np.degrees(motion.euler(tt))
+    rph = ypr[:, ::-1]
+    seconds, _ = timed(lambda: sim.generate_imu(tt, lla, rph, sensor_type="increment"), 1)
+    return seconds, "same motion and sample times, one process"
 
 
 def states(n, q0):
@@ -97,8 +122,18 @@ def main(argv=None):
     motion = spinning_cone(duration=N / rate)
 
     # --- simulate (also the input of every navigation below)
+    simulate_imu(motion, rate, 1.0, output="increments")         # block weights: once a process
     t_sim, sig = timed(lambda: simulate_imu(motion, rate, N / rate, output="increments"), 1)
-    row("simulate", "imunav simulate_imu, increments (quadrature to 1e-13)", t_sim, N)
+    row("simulate", "imunav simulate_imu, increments (spinning cone)", t_sim, N)
+    fig8 = figure_eight(duration=N / rate)
+    t_sim_rates, _ = timed(lambda: simulate_imu(fig8, rate, N / rate, output="rates"), 3)
+    row("simulate_rates", "imunav simulate_imu, rates (figure-eight laws)", t_sim_rates, N)
+    t_sim_inc, sig8 = timed(lambda: simulate_imu(fig8, rate, N / rate, output="increments"), 3)
+    row("simulate_increments", "imunav simulate_imu, exact increments (figure-eight laws)",
+        t_sim_inc, N)
+    t_pyins, pyins_note = pyins_generate(fig8, sig8.t, rate)
+    if t_pyins is not None:
+        row("pyins_simulate", "pyins generate_imu, increments (figure-eight laws)", t_pyins, N)
     q0 = motion.attitude(np.array([0.0]))[0]
     dth, dv, g = sig.gyro, sig.accel, sig.g
 
@@ -213,6 +248,8 @@ def main(argv=None):
         "monte_carlo_over_single_run": mc_sps / single_sps,
         "peak_memory_over_outputs": peak / out_bytes,
         "cli_navigate_over_compute": t_cli / t_def,
+        "simulate_increments_over_rates": t_sim_inc / t_sim_rates,
+        "pyins_simulate_over_imunav": None if t_pyins is None else t_pyins / t_sim_inc,
     }
     targets = {
         "exact_exponential_attitude ≤ 3× compiled": ratios["imunav_over_compiled"][
@@ -222,7 +259,11 @@ def main(argv=None):
         "Monte Carlo ≥ single long run": ratios["monte_carlo_over_single_run"] >= 1,
         "peak memory ≤ 4× outputs": ratios["peak_memory_over_outputs"] <= 4,
         "CLI navigate ≤ 3× its compute": ratios["cli_navigate_over_compute"] <= 3,
+        "exact increments ≤ 2× rates": ratios["simulate_increments_over_rates"] <= 2,
+        "single run ≥ 3× 3.4e4 samples/s": single_sps >= 3 * 3.4e4,
     }
+    if t_pyins is not None:
+        targets["≥ 3× faster than pyins generate_imu"] = ratios["pyins_simulate_over_imunav"] >= 3
     print("\nratios")
     for k, v in ratios["imunav_over_compiled"].items():
         print(f"  imunav / compiled, {k:<36s} {v:8.2f}×")
@@ -231,6 +272,13 @@ def main(argv=None):
           f"({ratios['monte_carlo_over_single_run']:.2f}× the single run's {single_sps:,.0f})")
     print(f"  peak memory / output arrays (1e6 default nav)   {ratios['peak_memory_over_outputs']:8.2f}×"
           f"  ({peak / 1e6:.0f} MB / {out_bytes / 1e6:.0f} MB)")
+    print(f"  exact increments / rate samples (simulate, 1e6)     "
+          f"{ratios['simulate_increments_over_rates']:8.2f}×")
+    if t_pyins is None:
+        print(f"  pyins generate_imu / imunav increments              not measured: {pyins_note}")
+    else:
+        print(f"  pyins generate_imu / imunav increments              "
+              f"{ratios['pyins_simulate_over_imunav']:8.2f}×")
     print(f"  imunav navigate CLI / navigation compute (1e6 rows)  "
           f"{ratios['cli_navigate_over_compute']:8.2f}×")
     print("\nagreement")
@@ -249,6 +297,7 @@ def main(argv=None):
     result = {"machine": {"cores": os.cpu_count(), "processor": platform.processor(),
                           "python": sys.version.split()[0], "numpy": np.__version__},
               "samples": N, "repeats": a.repeats, "timings": rows, "ratios": ratios,
+              "notes": {"pyins": pyins_note},
               "agreement": checks, "agreement_bounds": bounds, "targets_met": targets}
     Path(a.out).write_text(json.dumps(result, indent=2, ensure_ascii=False) + "\n")
     print(f"\nwrote {a.out}")

@@ -24,7 +24,7 @@ from imunav.motion.base import BaseMotion
 from imunav.motion.quaternion_law import PAPER_K as PAPER_K  # the paper's Fig. 1–3 frequencies
 from imunav.motion.quaternion_law import FourRotationMotion
 from imunav.papers.records import record
-from imunav.sensors.simulate import integrate_intervals
+from imunav.sensors.quadrature import integrate_intervals
 from imunav.strapdown.scan import cumulative_product
 from imunav.symbolic import plaksiy as S
 

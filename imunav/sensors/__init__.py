@@ -19,10 +19,11 @@ from imunav.sensors.models import (
     measure,
 )
 from imunav.sensors.presets import PRESETS
+from imunav.sensors.quadrature import integrate_consecutive, integrate_intervals
 from imunav.sensors.signals import KINDS, ImuSignals
-from imunav.sensors.simulate import integrate_intervals, sample_times, simulate_imu, truth_states
+from imunav.sensors.simulate import sample_times, simulate_imu, truth_states
 
 __all__ = ["KINDS", "PRESETS", "ImuModel", "ImuSignals", "MeasureStream", "TriadModel",
            "TriadStream", "allan_deviation", "apply_triad", "bias_instability_sigma",
-           "gauss_markov_allan_variance", "integrate_intervals", "measure", "sample_times",
-           "simulate_imu", "truth_states"]
+           "gauss_markov_allan_variance", "integrate_consecutive", "integrate_intervals",
+           "measure", "sample_times", "simulate_imu", "truth_states"]
