@@ -1,4 +1,5 @@
-"""Command line: ``imunav simulate | navigate | assess | reproduce`` (also ``python -m imunav``).
+"""Command line: ``imunav simulate | navigate | assess | design | allan | reproduce``
+(also ``python -m imunav``).
 
 Every user error exits with status 2 and one line ``imunav: error: …`` naming the argument,
 file, row or law and what was expected; numeric warnings never reach the terminal. No output
@@ -21,7 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from imunav.analysis.assessment import assess, format_verdict
+from imunav.analysis.assessment import assess, assess_covariance, format_verdict
+from imunav.analysis.design import design, format_design
 from imunav.core.constants import G0
 from imunav.core.resources import check_disk
 from imunav.core.validation import ImunavError, check_positive
@@ -29,14 +31,21 @@ from imunav.io import realdata
 from imunav.io.files import (
     ROW_BYTES,
     SignalFile,
+    format_allan,
+    imu_toml,
     load_motion_toml,
     read_initial_state,
+    read_signals,
+    save_figure,
     signals_writer,
     states_writer,
     write_json,
+    write_text,
 )
 from imunav.io.paths import check_outputs
+from imunav.plotting import plot_allan
 from imunav.reproduce import format_table, reproduce_all
+from imunav.sensors.allan import fit_allan
 from imunav.sensors.models import ImuModel
 from imunav.sensors.presets import PRESETS
 from imunav.sensors.simulate import ideal_chunks, interval_count, measured_chunks
@@ -119,15 +128,45 @@ def build_parser() -> argparse.ArgumentParser:
                    help="one of " + ", ".join(names) + "; default the most accurate for the kind")
     n.add_argument("--g", type=_positive("--g"), metavar="G", help="gravity (m/s²), 9.80665")
 
-    a = sub.add_parser("assess", help="can this IMU track this motion? (Monte Carlo verdict)")
+    a = sub.add_parser("assess", help="can this IMU track this motion? (the verdict)")
     a.add_argument("motion", metavar="MOTION.toml")
     a.add_argument("--imu", required=True, metavar="PRESET|IMU.toml")
     a.add_argument("--rate", required=True, type=_positive("--rate"), metavar="HZ")
-    a.add_argument("--runs", required=True, type=_integer("--runs", 1), metavar="N")
     a.add_argument("--tolerance", required=True, type=_positive("--tolerance"), metavar="POS_M")
-    a.add_argument("--seed", type=_integer("--seed", 0), default=0)
+    a.add_argument("--method", choices=("covariance", "montecarlo"),
+                   help="covariance (linear covariance analysis: fast, the default without "
+                        "--runs) or montecarlo (the default when --runs is given)")
+    a.add_argument("--runs", type=_integer("--runs", 1), metavar="N",
+                   help="Monte Carlo runs (--method montecarlo)")
+    a.add_argument("--seed", type=_integer("--seed", 0), help="Monte Carlo seed (default 0)")
     a.add_argument("--json", metavar="OUT.json")
-    a.add_argument("--scheduler", metavar="ADDRESS", help="run on a Dask cluster (imunav[dask])")
+    a.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run the Monte Carlo on a Dask cluster (imunav[dask])")
+
+    d = sub.add_parser("design", help="the worst IMU that still meets a tolerance on a motion")
+    d.add_argument("motion", metavar="MOTION.toml")
+    d.add_argument("--imu", required=True, metavar="BASE",
+                   help="the IMU whose terms are varied: a preset or an IMU.toml")
+    d.add_argument("--rate", required=True, type=_positive("--rate"), metavar="HZ")
+    d.add_argument("--tolerance", required=True, type=_positive("--tolerance"), metavar="M")
+    d.add_argument("--json", metavar="OUT.json")
+
+    al = sub.add_parser("allan", help="fit an IMU model (N, B, K) to a static recording's "
+                                      "Allan deviation")
+    al.add_argument("log", metavar="LOG.csv",
+                    help="a static recording: an imunav rates CSV, or --format generic")
+    al.add_argument("--fit", required=True, metavar="IMU.toml", help="write the fitted model")
+    al.add_argument("--plot", metavar="ADEV.png", help="also plot the Allan deviations and fits")
+    al.add_argument("--format", choices=("imunav", "generic"), default="imunav")
+    for opt, default, what in (("--gyro-units", "rad/s", "rad/s or deg/s"),
+                               ("--accel-units", "m/s^2", "m/s^2 or g"),
+                               ("--gyro-columns", "gx,gy,gz", "three column names"),
+                               ("--accel-columns", "ax,ay,az", "three column names"),
+                               ("--time-units", "s", "s, ms or us")):
+        al.add_argument(opt, default=default, help=f"generic: {what}")
+    al.add_argument("--time-column", help="generic: time column name (else --rate)")
+    al.add_argument("--rate", type=_positive("--rate"), metavar="HZ",
+                    help="generic without a time column: sample rate")
 
     r = sub.add_parser("reproduce", help="regenerate every reproduction figure and record")
     r.add_argument("--out", default="figures", metavar="DIR")
@@ -178,12 +217,56 @@ def cmd_simulate(args) -> int:
 def cmd_assess(args) -> int:
     model, imu_files = _imu(args.imu)
     out = check_outputs({"--json": args.json}, [args.motion, *imu_files])
+    method = args.method or ("montecarlo" if args.runs is not None else "covariance")
+    if method == "montecarlo" and args.runs is None:
+        raise ImunavError("--method montecarlo needs --runs N")
+    if method == "covariance":
+        for opt, val in (("--runs", args.runs), ("--seed", args.seed),
+                         ("--scheduler", args.scheduler)):
+            if val is not None:
+                raise ImunavError(f"{opt} applies to --method montecarlo only")
     motion, duration, g_file = load_motion_toml(args.motion)
-    r = assess(motion, model, args.rate, args.runs, args.tolerance, seed=args.seed,
-               duration=duration, scheduler=args.scheduler)
+    if method == "covariance":
+        r = assess_covariance(motion, model, args.rate, args.tolerance, duration=duration)
+    else:
+        r = assess(motion, model, args.rate, args.runs, args.tolerance, seed=args.seed or 0,
+                   duration=duration, scheduler=args.scheduler)
     print(format_verdict(r))
     if args.json:
         write_json(r, out["--json"])
+    return 0
+
+
+def cmd_design(args) -> int:
+    model, imu_files = _imu(args.imu)
+    out = check_outputs({"--json": args.json}, [args.motion, *imu_files])
+    motion, duration, g_file = load_motion_toml(args.motion)
+    r = design(motion, model, args.rate, args.tolerance, duration=duration)
+    print(format_design(r))
+    if args.json:
+        write_json(r, out["--json"])
+    return 0
+
+
+def cmd_allan(args) -> int:
+    out = check_outputs({"--fit": args.fit, "--plot": args.plot}, [args.log])
+    if args.format == "imunav":
+        f = SignalFile(args.log)
+        if f.kind != "rates":
+            raise ImunavError(f"{args.log}: allan needs rate samples (t,gx,…); these are "
+                              f"{f.kind}")
+        sig = read_signals(args.log)
+    else:
+        sig = _read_recording(args)
+    if len(sig) < 100:
+        raise ImunavError(f"{args.log}: {len(sig)} samples are too few for an Allan deviation "
+                          "(a static record of minutes to hours is needed)")
+    fits = {"gyro": fit_allan(sig.omega, sig.rate), "accel": fit_allan(sig.specific_force,
+                                                                       sig.rate)}
+    write_text(out["--fit"], imu_toml(fits, Path(args.log).name))
+    print(format_allan(fits, args.fit))
+    if args.plot:
+        save_figure(plot_allan(fits), out["--plot"])
     return 0
 
 
@@ -293,6 +376,7 @@ def main(argv: list[str] | None = None) -> int:
     except SystemExit as exc:                                # usage errors (2), --help (0)
         return int(exc.code or 0)
     command = {"simulate": cmd_simulate, "navigate": cmd_navigate, "assess": cmd_assess,
+               "design": cmd_design, "allan": cmd_allan,
                "reproduce": cmd_reproduce}[args.command]
     try:
         previous = signal.signal(signal.SIGTERM, _terminate)

@@ -126,3 +126,40 @@ def plot_envelope(mc: MonteCarloResult, tolerance: float | None = None, ax=None,
     ax.set(xlabel="t (s)", ylabel="position error (m)", title=f"{mc.runs} runs at {mc.rate:g} Hz")
     ax.legend(fontsize=7)
     return ax
+
+
+# ------------------------------------------------------------ Allan deviation
+
+def plot_allan(fits: dict, fig=None):
+    """Allan deviation of each axis (dots) and the fitted model (black), gyro and accelerometer
+    side by side; each identified term as its IEEE 952 asymptote (dashed: N/√τ, the floor B,
+    K√(τ/3)) over the τ range where it dominates (shaded)."""
+    import matplotlib.pyplot as plt
+
+    fig = fig or plt.figure(figsize=(11, 4.2))
+    colours = {"noise_density": "C0", "bias_instability": "C2", "random_walk": "C3"}
+    shapes = {"noise_density": lambda v, t: v / np.sqrt(t),
+              "bias_instability": lambda v, t: np.full_like(t, v),
+              "random_walk": lambda v, t: v * np.sqrt(t / 3)}
+    for n, (triad, fit) in enumerate(fits.items()):
+        ax = fig.add_subplot(1, len(fits), n + 1)
+        taus = fit["taus"]
+        for j, c in enumerate("xyz"):
+            ax.loglog(taus, fit["adev_axes"][:, j], ".", ms=3, alpha=0.6,
+                      color=("0.45", "C1", "C9")[j], label=f"axis {c}")
+        ax.loglog(taus, fit["model"], "k-", lw=1.5, label="fitted model")
+        for name, term in fit["terms"].items():
+            if term["value"] is None:
+                continue
+            ax.loglog(taus, shapes[name](term["value"], taus), "--", lw=1,
+                      color=colours[name])
+            ax.axvspan(*term["tau_range"], color=colours[name], alpha=0.1,
+                       label=name.replace("_", " "))
+        unit = "rad/s" if triad == "gyro" else "m/s²"
+        lo, hi = fit["adev_axes"].min(), fit["adev_axes"].max()
+        ax.set(xlabel="τ (s)", ylabel=f"Allan deviation ({unit})", title=triad,
+               ylim=(lo / 2, hi * 2))
+        ax.grid(True, which="both", lw=0.3, alpha=0.5)
+    fig.axes[-1].legend(fontsize=7, loc="center left", bbox_to_anchor=(1.02, 0.5))
+    fig.tight_layout()
+    return fig

@@ -83,7 +83,6 @@ def _check(m, rate, duration, t0, n_intervals, rng, omega=0.0):
     sig = simulate_imu(m, rate, duration, output="increments", t0=t0)
     ref = _reference(m)
     h = 1.0 / rate
-    worst = 0.0
     for k in rng.choice(len(sig), n_intervals, replace=False):
         # the exact interval (the doubles t_k − h and t_k would differ from it by an ulp of t)
         with mpmath.workdps(24):           # 24 digits: the truth to ~1e-20 of its size

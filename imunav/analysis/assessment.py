@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from imunav.analysis.covariance import CovarianceResult, covariance
 from imunav.analysis.metrics import nav_errors
 from imunav.analysis.montecarlo import MonteCarloResult, monte_carlo
 from imunav.analysis.roundtrip import initial_state
@@ -65,6 +66,7 @@ def verdict(mc: MonteCarloResult, tolerance: float, budget: dict[str, MonteCarlo
     env = np.percentile(mc.position, PERCENTILE, axis=0)
     over = np.nonzero(env > tolerance)[0]
     terms = {k: float(np.percentile(b.position[:, -1], PERCENTILE)) for k, b in budget.items()}
+    idx = _envelope_index(mc.t.size)
     return {
         "motion": motion, "imu": imu, "rate_hz": float(mc.rate), "tolerance_m": tolerance,
         "runs": mc.runs, "seed": seed,
@@ -75,7 +77,68 @@ def verdict(mc: MonteCarloResult, tolerance: float, budget: dict[str, MonteCarlo
         "error_budget": dict(sorted(terms.items(), key=lambda kv: -kv[1])),
         "min_rate_hz": min_rate,
         "saturated_runs": int(np.sum(mc.saturated > 0)),
+        "method": "montecarlo",
+        "warnings": [],
+        "envelope": {"t": mc.t[idx].tolist(),
+                     "position_p95_m": np.percentile(mc.position[:, idx], PERCENTILE,
+                                                     axis=0).tolist(),
+                     "attitude_p95_rad": np.percentile(mc.attitude[:, idx], PERCENTILE,
+                                                       axis=0).tolist()},
     }
+
+
+#: Points of the envelope reported in ``--json`` (and plotted): the output times, thinned.
+ENVELOPE_POINTS = 201
+
+
+def _envelope_index(n: int) -> np.ndarray:
+    return np.unique(np.linspace(0, n - 1, min(n, ENVELOPE_POINTS)).round().astype(int))
+
+
+def verdict_covariance(cov: CovarianceResult, tolerance: float, min_rate: float | None, *,
+                       motion: str = "motion", imu: str = "imu") -> dict:
+    """The verdict from a covariance analysis: the same keys as :func:`verdict`.
+
+    ``fraction_within_tolerance`` is the probability at the worst time that the position error
+    is within the tolerance, ``min_t P(|δp(t)| ≤ tol)``: an upper bound on the fraction of runs
+    that stay within over the whole motion (a run can exceed at different times), equal to it
+    when each run's error grows steadily, as drift does. The envelope and the budget are exact
+    95th percentiles of the error norm of the linear model.
+    """
+    tolerance = check_positive(tolerance, "tolerance")
+    within_t = cov.position_within(tolerance)
+    within = float(within_t.min())
+    over = np.nonzero(within_t < SUITABLE_FRACTION)[0]   # there the 95th percentile > tolerance
+    idx = _envelope_index(cov.t.size)
+    env_p = cov.position_quantile(PERCENTILE / 100, index=idx)
+    env_a = cov.attitude_quantile(PERCENTILE / 100, index=idx)
+    terms = {k: float(cov.position_quantile(PERCENTILE / 100, term=k, index=-1))
+             for k in cov.terms}
+    return {
+        "motion": motion, "imu": imu, "rate_hz": cov.rate, "tolerance_m": tolerance,
+        "method": "covariance", "runs": None, "seed": None,
+        "fraction_within_tolerance": within,
+        "suitable": within >= SUITABLE_FRACTION,
+        "time_p95_exceeds_s": float(cov.t[over[0]]) if over.size else None,
+        "final_p95_position_m": float(env_p[-1]),
+        "error_budget": dict(sorted(terms.items(), key=lambda kv: -kv[1])),
+        "min_rate_hz": min_rate,
+        "saturated_runs": 0,
+        "warnings": list(cov.warnings),
+        "envelope": {"t": cov.t[idx].tolist(), "position_p95_m": env_p.tolist(),
+                     "attitude_p95_rad": env_a.tolist()},
+    }
+
+
+def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, tolerance: float,
+                      duration: float | None = None, output: str = "increments") -> dict:
+    """The applicability verdict by linear covariance analysis (:mod:`~imunav.analysis.covariance`):
+    milliseconds to a second where Monte Carlo takes tens of seconds; exact for the linear
+    model, and flagged when the motion leaves its validity (clipping, large attitude errors)."""
+    tolerance = check_positive(tolerance, "tolerance")
+    cov = covariance(motion, model, rate, duration, output=output)
+    return verdict_covariance(cov, tolerance, min_sample_rate(motion, tolerance, duration, output),
+                              motion=getattr(motion, "name", "motion"), imu=model.name)
 
 
 def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int, tolerance: float,
@@ -100,14 +163,23 @@ def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int, toleranc
 
 
 def format_verdict(r: dict) -> str:
-    """A verdict a non-specialist can act on."""
+    """A verdict a non-specialist can act on (either method)."""
     pct = 100 * r["fraction_within_tolerance"]
-    lines = [f"IMU {r['imu']} on motion {r['motion']} at {r['rate_hz']:g} Hz, "
-             f"{r['runs']} runs (seed {r['seed']}), tolerance {r['tolerance_m']:g} m:"]
+    cov = r.get("method") == "covariance"
+    how = "covariance analysis" if cov else f"{r['runs']} runs (seed {r['seed']})"
+    lines = [f"IMU {r['imu']} on motion {r['motion']} at {r['rate_hz']:g} Hz, {how}, "
+             f"tolerance {r['tolerance_m']:g} m:"]
     ok = r.get("suitable", r["fraction_within_tolerance"] >= SUITABLE_FRACTION)
-    lines.append(f"  {'SUITABLE' if ok else 'NOT SUITABLE'}: {pct:.1f} % of runs stay within "
-                 f"{r['tolerance_m']:g} m over the whole motion (needed: "
-                 f"{100 * SUITABLE_FRACTION:g} %).")
+    need = f"(needed: {100 * SUITABLE_FRACTION:g} %)"
+    if cov and ok:
+        lines.append(f"  SUITABLE: P(position error ≤ {r['tolerance_m']:g} m) is at least "
+                     f"{pct:.1f} % at every time {need}.")
+    elif cov:
+        lines.append(f"  NOT SUITABLE: P(position error ≤ {r['tolerance_m']:g} m) drops to "
+                     f"{pct:.1f} % (needed: {100 * SUITABLE_FRACTION:g} % at every time).")
+    else:
+        lines.append(f"  {'SUITABLE' if ok else 'NOT SUITABLE'}: {pct:.1f} % of runs stay within "
+                     f"{r['tolerance_m']:g} m over the whole motion {need}.")
     if r["time_p95_exceeds_s"] is None:
         lines.append("  The 95th percentile of the position error never exceeds the tolerance "
                      f"(final {r['final_p95_position_m']:.3g} m).")
@@ -126,4 +198,6 @@ def format_verdict(r: dict) -> str:
                  + (f"{mr:g} Hz." if mr else "no tested rate (≤ 5 kHz)."))
     if r["saturated_runs"]:
         lines.append(f"  Warning: {r['saturated_runs']} runs hit the sensor range (clipped).")
+    for w in r.get("warnings", []):
+        lines.append(f"  Warning: {w}.")
     return "\n".join(lines)

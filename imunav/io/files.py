@@ -213,3 +213,81 @@ def write_states(path: str | Path, states: States) -> None:
 def write_json(r: dict, path: str | Path) -> None:
     """Write a result dictionary (``imunav assess --json``) as indented JSON."""
     atomic_write_text(path, json.dumps(r, indent=1) + "\n")
+
+
+def write_text(path: str | Path, text: str) -> None:
+    """Write a text file through a temporary file renamed at the end."""
+    atomic_write_text(path, text)
+
+
+def save_figure(fig, path: str | Path, **kw) -> None:
+    """``fig.savefig`` through a temporary file renamed at the end (format from the suffix)."""
+    import os
+    import tempfile
+
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix or ".png",
+                               dir=path.parent)
+    os.close(fd)
+    try:
+        fig.savefig(tmp, **kw)
+        os.replace(tmp, path)
+    finally:
+        Path(tmp).unlink(missing_ok=True)
+
+
+#: How the fitted terms are written: SI unit, and the datasheet unit shown beside it.
+_ALLAN_UNITS = {
+    ("gyro", "noise_density"): ("rad/s/√Hz (= rad/√s)", "deg/sqrt(h)", "deg/√h"),
+    ("gyro", "bias_instability"): ("rad/s", "deg/h", "°/h"),
+    ("gyro", "random_walk"): ("rad/s/√s", "deg/h/sqrt(h)", "°/h/√h"),
+    ("accel", "noise_density"): ("m/s²/√Hz (= m/s/√s)", "ug/sqrt(Hz)", "µg/√Hz"),
+    ("accel", "bias_instability"): ("m/s²", "ug", "µg"),
+    ("accel", "random_walk"): ("m/s²/√s", "m/s/h/sqrt(h)", "m/s/h/√h"),
+}
+
+
+def _datasheet(triad: str, name: str, si: float) -> str:
+    from imunav.core.units import SPEC
+
+    _, unit, shown = _ALLAN_UNITS[triad, name]
+    return f"{si / SPEC[triad][name][0][unit]:.4g} {shown}"
+
+
+def imu_toml(fits: dict, source: str) -> str:
+    """The ``IMU.toml`` text of Allan fits (:func:`imunav.sensors.allan.fit_allan` per triad):
+    SI numbers, each with its unit, its datasheet equivalent and the τ range it was fitted on
+    in a comment; terms the record cannot determine are left out, with the reason."""
+    f0 = next(iter(fits.values()))
+    lines = [f"# Fitted by `imunav allan` from {source}: a static record of "
+             f"{f0['samples'] / f0['rate']:.6g} s at {f0['rate']:.6g} Hz.",
+             "# Model of the overlapping Allan variance: σ²(τ) = N²/τ + B² + K²τ/3, fitted by",
+             "# weighted least squares (each τ weighted by its degrees of freedom). B is the Allan",
+             "# floor, as datasheets quote bias instability (the IEEE 952 flicker coefficient is",
+             "# B/0.664). Values are SI; ± is the Allan deviation's sampling error where the term",
+             "# dominates.",
+             'name = "fitted"']
+    for triad, fit in fits.items():
+        lines.append(f"\n[{triad}]")
+        for name, term in fit["terms"].items():
+            if term["value"] is None:
+                lines.append(f"# {name}: not determined — {term['why']}")
+                continue
+            unit = _ALLAN_UNITS[triad, name][0]
+            lo, hi = term["tau_range"]
+            lines.append(f"{name} = {term['value']:.6e}   # {unit} ± {term['se']:.2g}, "
+                         f"= {_datasheet(triad, name, term['value'])}; τ = {lo:.3g}–{hi:.3g} s")
+    return "\n".join(lines) + "\n"
+
+
+def format_allan(fits: dict, path) -> str:
+    lines = [f"Allan fits (weighted least squares; written to {path}):"]
+    for triad, fit in fits.items():
+        for name, term in fit["terms"].items():
+            if term["value"] is None:
+                lines.append(f"  {triad + '.' + name:24s} not determined: {term['why']}")
+            else:
+                lo, hi = term["tau_range"]
+                lines.append(f"  {triad + '.' + name:24s} {_datasheet(triad, name, term['value']):>16s}"
+                             f"  ± {100 * term['se'] / term['value']:.1f} %   (τ {lo:.3g}–{hi:.3g} s)")
+    return "\n".join(lines)

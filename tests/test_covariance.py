@@ -1,0 +1,252 @@
+"""Linear covariance analysis (issue 18): the closed forms of inertial error growth, the norm
+percentiles against independent distributions, and agreement with Monte Carlo within its
+sampling error."""
+
+import numpy as np
+import pytest
+from scipy import stats
+from scipy.integrate import quad
+
+from imunav import Motion
+from imunav.analysis.covariance import LINEAR_LIMIT, covariance
+from imunav.analysis.gaussnorm import norm_cdf, norm_quantile
+from imunav.analysis.montecarlo import monte_carlo
+from imunav.core.constants import G0
+from imunav.core.rotations import _angle
+from imunav.motion.catalog import figure_eight
+from imunav.sensors.models import ImuModel, TriadModel, bias_instability_sigma, measure
+from imunav.sensors.simulate import simulate_imu
+from imunav.strapdown.registry import navigate_batch
+
+STILL = Motion(duration=20.0, name="still")
+
+
+def _model(triad, **kw):
+    return ImuModel(**{triad: TriadModel(**kw)})
+
+
+def _diag(P):
+    return np.diagonal(P, axis1=-2, axis2=-1)
+
+
+# ----------------------------------------------------------------------------- closed forms
+# Textbook error growth of a level, stationary strapdown solution (e.g. Titterton & Weston,
+# Strapdown Inertial Navigation Technology, §12; Groves, Principles of GNSS, Inertial and
+# Multisensor Navigation, §5.7, without Schuler feedback over 20 s): every formula is written
+# here from those sources, not from the code.
+
+T_END = 20.0
+
+
+def _cov(model, motion=STILL, rate=100.0, output="rates"):
+    return covariance(motion, model, rate, output=output)
+
+
+def test_gyro_white_noise_attitude_and_position():
+    N = 3e-4
+    r = _cov(_model("gyro", noise_density=N))
+    t = r.t
+    np.testing.assert_allclose(_diag(r.total[:, 0:3, 0:3]), (N * N * t)[:, None] * [1, 1, 1],
+                               rtol=1e-12, atol=0)
+    hor = G0 ** 2 * N ** 2 * t ** 5 / 20                     # σ² = g²N²t⁵/20
+    np.testing.assert_allclose(_diag(r.total[1:, 6:8, 6:8]), np.stack([hor[1:]] * 2, -1),
+                               rtol=1e-12)
+    assert np.abs(r.total[:, 8, 8]).max() == 0.0             # vertical: no tilt coupling
+
+
+def test_gyro_bias_position_cubic():
+    b = 1e-4
+    r = _cov(_model("gyro", bias=b))
+    t = r.t
+    np.testing.assert_allclose(np.sqrt(_diag(r.total[1:, 0:3, 0:3])),
+                               np.stack([b * t[1:]] * 3, -1), rtol=1e-12)
+    np.testing.assert_allclose(np.sqrt(_diag(r.total[1:, 6:8, 6:8])),
+                               np.stack([G0 * b * t[1:] ** 3 / 6] * 2, -1), rtol=1e-12)
+
+
+def test_accel_bias_and_white_noise():
+    b, N = 2e-3, 1e-3
+    r = _cov(_model("accel", bias=b))
+    t = r.t[1:]
+    np.testing.assert_allclose(np.sqrt(_diag(r.total[1:, 6:9, 6:9])),
+                               np.stack([b * t * t / 2] * 3, -1), rtol=1e-12)
+    r = _cov(_model("accel", noise_density=N))
+    np.testing.assert_allclose(_diag(r.total[1:, 6:9, 6:9]),
+                               np.stack([N * N * t ** 3 / 3] * 3, -1), rtol=1e-12)
+    assert np.abs(r.total[:, 0:3, 0:3]).max() == 0.0         # accel errors never tilt
+
+
+def test_random_walk_and_gauss_markov_attitude():
+    K = 1e-5
+    t = _cov(_model("gyro", random_walk=K)).t
+    att = _diag(_cov(_model("gyro", random_walk=K)).total[:, 0:3, 0:3])
+    np.testing.assert_allclose(att[1:], np.stack([K * K * t[1:] ** 3 / 3] * 3, -1), rtol=1e-12)
+    # stationary Gauss–Markov bias (std s, correlation T): Var ∫₀ᵗ b = 2s²T²(t/T − 1 + e^{−t/T});
+    # s is the σ whose Allan peak is B (pinned to the textbook 0.6174 s in test_sensor_terms)
+    B, T = 1e-4, 7.0
+    s = bias_instability_sigma(B, T)
+    att = _diag(_cov(_model("gyro", bias_instability=B, bias_correlation_time=T),
+                     rate=10.0).total[:, 0:3, 0:3])
+    t = np.arange(att.shape[0]) / 10.0
+    want = 2 * s * s * T * T * (t / T - 1 + np.exp(-t / T))
+    np.testing.assert_allclose(att[1:], np.stack([want[1:]] * 3, -1), rtol=1e-11)
+
+
+def test_scale_factor_on_a_constant_turn():
+    w, s = 0.5, 1e-3
+    turn = Motion(yaw="0.5*t", duration=T_END)
+    r = _cov(_model("gyro", scale_factor=s), motion=turn)
+    np.testing.assert_allclose(np.sqrt(r.total[1:, 2, 2]), s * w * r.t[1:], rtol=1e-12)
+    assert np.abs(r.total[:, 0:2, 0:2]).max() < 1e-30        # the error stays about z
+
+
+def test_resolution_rates_white_increments_bounded():
+    q, rate = 1e-3, 50.0
+    r = _cov(_model("gyro", resolution=q), rate=rate, output="rates")
+    np.testing.assert_allclose(_diag(r.total[1:, 0:3, 0:3]),
+                               np.stack([q * q / (12 * rate) * r.t[1:]] * 3, -1), rtol=1e-12)
+    # increments carry the rounding residual: the angle error is the current residual, uniform
+    # on ±q·h/2 per axis (variance (qh)²/12) at every time, however long the motion
+    r = _cov(_model("gyro", resolution=q), rate=rate, output="increments")
+    np.testing.assert_allclose(_diag(r.total[1:, 0:3, 0:3]), (q / rate) ** 2 / 12, rtol=1e-12)
+
+
+# ----------------------------------------------------------------------------- the norm
+
+
+@pytest.mark.parametrize("lam, dist", [
+    ((1.0, 1.0, 1.0), stats.chi(3)),                 # isotropic: χ₃
+    ((1.0, 1.0, 0.0), stats.chi(2)),                 # a disc: Rayleigh
+    ((1.0, 0.0, 0.0), stats.halfnorm()),             # a line: |N(0, 1)|
+])
+def test_norm_quantile_special_cases(lam, dist):
+    for p in (0.5, 0.68, 0.95, 0.999):
+        assert norm_quantile(np.diag(lam), p) == pytest.approx(dist.ppf(p), rel=1e-10)
+
+
+def _cdf_nested(lam, r):
+    """P(λ₁z₁² + λ₂z₂² + λ₃z₃² ≤ r²) by nested adaptive quadrature of a different formula:
+    condition on z₁, and the 2-D remainder in polar form, P(λ₂z₂² + λ₃z₃² ≤ s) =
+    (2/π) ∫₀^{π/2} (1 − exp(−s / 2(λ₂cos²φ + λ₃sin²φ))) dφ (R² ~ χ²₂ is exponential)."""
+    l1, l2, l3 = lam
+
+    def g2(s):
+        def f(ph):
+            return -np.expm1(-s / (2 * (l2 * np.cos(ph) ** 2 + l3 * np.sin(ph) ** 2)))
+
+        return quad(f, 0, np.pi / 2, epsabs=1e-15, epsrel=1e-13, limit=200)[0] * 2 / np.pi
+
+    a = r / np.sqrt(l1)
+    return 2 * quad(lambda z: stats.norm.pdf(z) * g2(r * r - l1 * z * z), 0, a,
+                    epsabs=1e-15, epsrel=1e-13, limit=200)[0]
+
+
+@pytest.mark.parametrize("lam", [(1.0, 0.3, 0.01), (1.0, 0.05, 0.002), (2.0, 1.0, 0.5)])
+def test_norm_cdf_and_quantile_anisotropic_vs_quadrature(lam):
+    # measured: the two agree to 1e-15; the graded rule's own error is below 3e-12
+    rot = stats.special_ortho_group.rvs(3, random_state=5)
+    P = rot @ np.diag(lam) @ rot.T
+    for r in (0.1, 0.8, 2.0, 4.0):
+        assert float(norm_cdf(P, r)) == pytest.approx(_cdf_nested(lam, r), abs=1e-11)
+    r = float(norm_quantile(P, 0.95))
+    assert _cdf_nested(lam, r) == pytest.approx(0.95, abs=1e-11)
+
+
+def test_norm_cdf_against_sampling(rng):
+    A = rng.normal(size=(3, 3))
+    P = A @ A.T
+    x = rng.multivariate_normal(np.zeros(3), P, size=400_000)
+    n = np.linalg.norm(x, axis=1)
+    for r in np.percentile(n, [10, 50, 95]):
+        p = float(norm_cdf(P, r))
+        assert np.mean(n <= r) == pytest.approx(p, abs=5 * np.sqrt(p * (1 - p) / n.size))
+
+
+# ------------------------------------------------------------------- agreement with Monte Carlo
+
+RUNS = 500
+ALPHA = 1e-3      # per comparison: the true 95th percentile lies in [X(l), X(u)] w.p. ≥ 1 − α
+#: allowance for what differs between the two besides sampling: the discrete-time noise of the
+#: simulation vs the continuous PSD (O(h/t)), linearisation (φ ≤ 1e-3 rad here: O(φ))
+MODEL = 0.02
+
+
+def _order_interval(samples, p=0.95, alpha=ALPHA):
+    """Distribution-free confidence interval of the p-quantile: order statistics l and u with
+    P(X(l) ≤ Q ≤ X(u)) ≥ 1 − α (binomial counts of samples below Q)."""
+    n = samples.shape[0]
+    s = np.sort(samples, axis=0)
+    lo = int(stats.binom.ppf(alpha / 2, n, p))                   # 1-based order statistics
+    hi = int(stats.binom.ppf(1 - alpha / 2, n, p)) + 1
+    return s[max(lo - 1, 0)], s[min(hi - 1, n - 1)]
+
+
+def _agree(cov_q, mc, what):
+    lo, hi = _order_interval(mc)
+    small = hi < 1e-9                                            # both at rounding level
+    ok = small | ((cov_q >= lo / (1 + MODEL)) & (cov_q <= hi * (1 + MODEL)))
+    assert ok.all(), (what, cov_q, lo, hi)
+
+
+@pytest.mark.parametrize("motion, preset", [
+    (figure_eight(), "tactical"),          # GM bias instability, scale factors, turn-on biases
+    (STILL, "ADIS16470"),                  # flicker bank, misalignment, a stationary IMU
+])
+def test_covariance_agrees_with_monte_carlo(motion, preset):
+    model = ImuModel.load(preset)
+    rate = 50.0
+    cov = covariance(motion, model, rate)
+    assert not cov.warnings
+    idx = np.linspace(0, cov.t.size - 1, 11).round().astype(int)[1:]      # ten times
+    for term in [None, *cov.terms]:
+        m = model if term is None else model.only(term)
+        mc = monte_carlo(motion, m, rate, runs=RUNS, seed=11, progress=False)
+        _agree(cov.position_quantile(index=idx, term=term), mc.position[:, idx], (term, "pos"))
+        _agree(cov.attitude_quantile(index=idx, term=term), mc.attitude[:, idx], (term, "att"))
+
+
+def test_resolution_as_dithered_white_noise():
+    """With noise present the rounding residuals are random: paired runs (same noise, with and
+    without the quantiser) isolate the rounding's own error, which the covariance predicts."""
+    motion, rate, runs, q = figure_eight(), 50.0, 300, 1e-3
+    noisy = _model("gyro", noise_density=2e-4)
+    quant = _model("gyro", noise_density=2e-4, resolution=q)
+    sim = simulate_imu(motion, rate, motion.duration, output="increments")
+    t = sim.state_times()
+    start = motion.attitude(t)[0], motion.velocity(t)[0], motion.position(t)[0]
+
+    def runs_of(model):
+        seeds = np.random.SeedSequence(7).spawn(runs)
+        G, A = zip(*(measure(model, sim.gyro, sim.accel, "increments", rate,
+                             np.random.default_rng(s))[:2] for s in seeds), strict=True)
+        return navigate_batch("increments", np.stack(G, 1), np.stack(A, 1), rate, *start)
+
+    qa, _, pa = runs_of(noisy)
+    qb, _, pb = runs_of(quant)
+    dp = np.linalg.norm(pb - pa, axis=-1).T
+    da = _angle(qb, qa).T
+    cov = covariance(motion, _model("gyro", resolution=q), rate)
+    idx = np.linspace(0, t.size - 1, 11).round().astype(int)[1:]
+    _agree(cov.position_quantile(index=idx), dp[:, idx], "resolution position")
+    # the angle error is the current residual: uniform, not Gaussian, so compare its mean square
+    # (exact for any distribution) with the trace of the covariance
+    ms = np.mean(da[:, idx] ** 2, axis=0)
+    tr = np.trace(cov.total[idx, 0:3, 0:3], axis1=1, axis2=2)
+    se = np.std(da[:, idx] ** 2, axis=0) / np.sqrt(runs)
+    assert np.all(np.abs(ms - tr) < 4 * se + 0.02 * tr), (ms, tr)
+
+
+# ----------------------------------------------------------------------------- validity warnings
+
+
+def test_warnings_outside_the_linear_model():
+    # MPU-6050: 20 °/s turn-on gyro bias → attitude errors of radians: the model says so
+    r = covariance(STILL, ImuModel.load("MPU-6050"), 50.0)
+    assert r.attitude_quantile(index=-1) > LINEAR_LIMIT
+    assert any("small-angle" in w for w in r.warnings)
+    # a motion faster than the gyro range
+    fast = Motion(roll="5*t", duration=2.0)
+    r = covariance(fast, _model("gyro", noise_density=1e-4, range=1.0), 50.0)
+    assert any("beyond the gyro range" in w for w in r.warnings)
+    r = covariance(fast, _model("gyro", noise_density=1e-4, range=10.0), 50.0)
+    assert not r.warnings
