@@ -250,3 +250,17 @@ def test_warnings_outside_the_linear_model():
     assert any("beyond the gyro range" in w for w in r.warnings)
     r = covariance(fast, _model("gyro", noise_density=1e-4, range=10.0), 50.0)
     assert not r.warnings
+
+
+def test_within_summary_equals_the_brute_force_scan():
+    """The verdict reads min_t P(|δp| ≤ tol) and the first time it drops below 95 % through
+    eigenvalue bounds; the same from the CDF at every time."""
+    for motion in (figure_eight(), STILL):
+        for preset in ("tactical", "BMI088"):
+            c = covariance(motion, ImuModel.load(preset), 50.0)
+            for tol in (0.01, 0.5, 3.0, 10.0, 1e4):
+                w = c.position_within(tol)
+                over = np.nonzero(w < 0.95)[0]
+                low, first = c.within_summary(tol, 0.95)
+                assert low == w.min()
+                assert first == (int(over[0]) if over.size else None)

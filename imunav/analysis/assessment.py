@@ -106,9 +106,8 @@ def verdict_covariance(cov: CovarianceResult, tolerance: float, min_rate: float 
     95th percentiles of the error norm of the linear model.
     """
     tolerance = check_positive(tolerance, "tolerance")
-    within_t = cov.position_within(tolerance)
-    within = float(within_t.min())
-    over = np.nonzero(within_t < SUITABLE_FRACTION)[0]   # there the 95th percentile > tolerance
+    # there P < 95 % ⇔ the 95th percentile exceeds the tolerance
+    within, first_over = cov.within_summary(tolerance, SUITABLE_FRACTION)
     idx = _envelope_index(cov.t.size)
     env_p = cov.position_quantile(PERCENTILE / 100, index=idx)
     env_a = cov.attitude_quantile(PERCENTILE / 100, index=idx)
@@ -119,7 +118,7 @@ def verdict_covariance(cov: CovarianceResult, tolerance: float, min_rate: float 
         "method": "covariance", "runs": None, "seed": None,
         "fraction_within_tolerance": within,
         "suitable": within >= SUITABLE_FRACTION,
-        "time_p95_exceeds_s": float(cov.t[over[0]]) if over.size else None,
+        "time_p95_exceeds_s": None if first_over is None else float(cov.t[first_over]),
         "final_p95_position_m": float(env_p[-1]),
         "error_budget": dict(sorted(terms.items(), key=lambda kv: -kv[1])),
         "min_rate_hz": min_rate,

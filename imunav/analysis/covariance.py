@@ -248,12 +248,11 @@ def _propagate_diff_white(term: Term, traj: Trajectory) -> FloatArray:
     return out
 
 
-def propagate(term: Term, traj: Trajectory) -> FloatArray:
-    """Covariance of the nav errors [φ, δv, δp] at every output time: (N + 1, 9, 9)."""
-    if term.diff_white is not None:
-        return _propagate_diff_white(term, traj)
+def _discretise(term: Term, traj: Trajectory, F: FloatArray
+                ) -> tuple[FloatArray, FloatArray, int, FloatArray]:
+    """``(Φ, Q_d, sub, P₀)``: the exact transition and process noise of one sub-step (``sub``
+    sub-steps per output step) and the initial covariance of ``[nav, sensor states]``."""
     N = traj.C.shape[0]
-    F = _cross_matrix(traj.f_n)
     k = term.D.size
     B = term.B if term.B is not None else np.zeros((N, 9, 0))
     sub = max(1, int(np.ceil(np.max(np.abs(term.D), initial=0.0) * traj.h / 0.5)))
@@ -267,17 +266,45 @@ def propagate(term: Term, traj: Trajectory) -> FloatArray:
         for xi, wi in zip((x + 1) / 2 * h, w / 2 * h, strict=True):
             Ps = _transition(F, B, term.D, xi)
             Qd += wi * (Ps * Qc[None, None, :]) @ np.swapaxes(Ps, 1, 2)
-    n = 9 + k
-    P = np.zeros((n, n))
-    P[9:, 9:] = term.P0
-    out = np.empty((N + 1, 9, 9))
-    out[0] = P[:9, :9]
-    for i in range(N):
-        Pi, Qi = Phi[i], Qd[i]
-        for _ in range(sub):
-            P = Pi @ P @ Pi.T + Qi
-        out[i + 1] = P[:9, :9]
+    P0 = np.zeros((9 + k, 9 + k))
+    P0[9:, 9:] = term.P0
+    return Phi, Qd, sub, P0
+
+
+def propagate_many(terms: list[Term], traj: Trajectory) -> list[FloatArray]:
+    """Covariance of the nav errors [φ, δv, δp] at every output time, (N + 1, 9, 9), for each
+    term. Terms with the same state size and sub-stepping are propagated together (one batched
+    product per step instead of one per term and step)."""
+    F = _cross_matrix(traj.f_n)
+    N = traj.C.shape[0]
+    out: list[FloatArray | None] = [None] * len(terms)
+    groups: dict[tuple[int, int], list] = {}
+    for j, term in enumerate(terms):
+        if term.diff_white is not None:
+            out[j] = _propagate_diff_white(term, traj)
+            continue
+        Phi, Qd, sub, P0 = _discretise(term, traj, F)
+        groups.setdefault((P0.shape[0], sub), []).append((j, Phi, Qd, P0))
+    for (_, sub), members in groups.items():
+        Phi = np.stack([m[1] for m in members], axis=1)          # (N, T, n, n)
+        Qd = np.stack([m[2] for m in members], axis=1)
+        PhiT = np.swapaxes(Phi, -1, -2)
+        P = np.stack([m[3] for m in members])                     # (T, n, n)
+        hist = np.empty((N + 1, len(members), 9, 9))
+        hist[0] = P[:, :9, :9]
+        for i in range(N):
+            Pi, PiT, Qi = Phi[i], PhiT[i], Qd[i]
+            for _ in range(sub):
+                P = Pi @ P @ PiT + Qi
+            hist[i + 1] = P[:, :9, :9]
+        for c, m in enumerate(members):
+            out[m[0]] = hist[:, c]
     return out
+
+
+def propagate(term: Term, traj: Trajectory) -> FloatArray:
+    """Covariance of the nav errors [φ, δv, δp] at every output time: (N + 1, 9, 9)."""
+    return propagate_many([term], traj)[0]
 
 
 @dataclass
@@ -317,16 +344,27 @@ class CovarianceResult:
         cand = hi >= lo.max()
         return float(norm_quantile(P[cand], p).max())
 
-    def min_position_within(self, tolerance: float) -> float:
-        """``min_t P(|δp(t)| ≤ tolerance)``, exact where the bounds leave the minimum possible
-        (``F_χ₃(tol/√λ₁)`` ≤ P ≤ ``erf(tol/√(2λ₁))``)."""
+    def within_summary(self, tolerance: float, level: float) -> tuple[float, int | None]:
+        """``(min_t P(|δp(t)| ≤ tol), first index where it is below level)`` — exact CDFs
+        only where the bounds ``F_χ₃(tol/√λ₁) ≤ P ≤ erf(tol/√(2λ₁))`` (λ₁ the largest
+        eigenvalue) leave the answer open."""
         P = self.total[:, 6:9, 6:9]
         lam = np.maximum(np.linalg.eigvalsh(P)[:, -1], 0.0)
         with np.errstate(divide="ignore"):
             s = tolerance / np.sqrt(lam)                     # inf where the error is 0
         lower, upper = chi3_cdf(s), erf(s / np.sqrt(2))
-        cand = lower <= upper.min()
-        return float(norm_cdf(P[cand], tolerance).min())
+        sure = np.nonzero(upper < level)[0]
+        stop = sure[0] if sure.size else lam.size
+        cand = (lower <= upper.min()) | ((lower < level) & (np.arange(lam.size) <= stop))
+        idx = np.nonzero(cand)[0]
+        exact = norm_cdf(P[idx], tolerance)
+        below = idx[exact < level]
+        first = min(int(below[0]) if below.size else lam.size, int(stop))
+        return float(exact.min()), (first if first < lam.size else None)
+
+    def min_position_within(self, tolerance: float) -> float:
+        """``min_t P(|δp(t)| ≤ tolerance)`` (see :meth:`within_summary`)."""
+        return self.within_summary(tolerance, 0.0)[0]
 
 
 #: Above this 95th-percentile attitude error (rad) the small-angle model is no longer reliable.
@@ -343,10 +381,9 @@ def covariance(motion: BaseMotion, model: ImuModel, rate: float, duration: float
     if duration is None:
         raise ImunavError("duration must be given (the motion has no default duration)")
     traj = trajectory or Trajectory.of(motion, rate, duration, g)
-    terms = {}
-    for triad in ("gyro", "accel"):
-        for term in terms_of(getattr(model, triad), triad, traj, output):
-            terms[term.name] = propagate(term, traj)
+    linear = [term for triad in ("gyro", "accel")
+              for term in terms_of(getattr(model, triad), triad, traj, output)]
+    terms = dict(zip([t.name for t in linear], propagate_many(linear, traj), strict=True))
     total = sum(terms.values()) if terms else np.zeros((traj.t.size, 9, 9))
     warnings = []
     for triad, peak, what in (("gyro", traj.max_rate, "angular rate"),
