@@ -87,7 +87,12 @@ def test_internal_rate_chain_decimates():
     model = ImuModel.load("ideal")
     model = ImuModel(TriadModel(internal_rate=1000.0, bandwidth=200.0), TriadModel(), "x")
     mc = monte_carlo(motion, model, 100.0, runs=2, seed=0, output="increments", progress=False)
-    assert mc.t.size == 201 and mc.attitude.max() < 1e-3
+    assert mc.t.size == 201
+    # what remains is the filter's lag: a 2nd-order Butterworth delays by √2/(2π·200 Hz) at low
+    # frequency, and the sensor was at steady state (ω(0) = 0.6 rad/s) before t0, so the angle
+    # error is about (ω(t) − ω(0))·delay, at most 1.2 rad/s × 1.13 ms = 1.35e-3 rad
+    est = 1.2 * np.sqrt(2) / (2 * np.pi * 200.0)
+    assert 0.7 * est < mc.attitude.max() < 1.05 * est
 
 
 def test_imu_toml_and_bad_keys(tmp_path):

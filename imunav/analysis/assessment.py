@@ -16,7 +16,7 @@ from imunav.analysis.montecarlo import MonteCarloResult, monte_carlo
 from imunav.analysis.roundtrip import initial_state
 from imunav.core.validation import check_positive
 from imunav.motion.base import BaseMotion
-from imunav.sensors.models import ImuModel
+from imunav.sensors.models import ImuModel, TriadModel
 from imunav.sensors.simulate import simulate_imu
 from imunav.strapdown.registry import navigate
 
@@ -129,15 +129,42 @@ def verdict_covariance(cov: CovarianceResult, tolerance: float, min_rate: float 
     }
 
 
+def deterministic_error(motion: BaseMotion, model: ImuModel, rate: float,
+                        duration: float | None = None, output: str = "increments"
+                        ) -> tuple[float, float] | None:
+    """Maximum position (m) and attitude (rad) error of one noise-free run keeping only the
+    sensor's deterministic, non-linear terms — the anti-alias filter (its lag on the signal) and
+    the range (clipping) — or None if the model has neither. The covariance models only their
+    effect on noise; this measures what they do to the motion itself."""
+    def keep(m):
+        return TriadModel(range=m.range, bandwidth=m.bandwidth, internal_rate=m.internal_rate)
+
+    if not any(t.bandwidth or t.range for t in (model.gyro, model.accel)):
+        return None
+    det = ImuModel(keep(model.gyro), keep(model.accel), f"{model.name}:deterministic")
+    mc = monte_carlo(motion, det, rate, duration, runs=1, output=output, progress=False)
+    return float(mc.position.max()), float(mc.attitude.max())
+
+
 def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, tolerance: float,
                       duration: float | None = None, output: str = "increments") -> dict:
     """The applicability verdict by linear covariance analysis (:mod:`~imunav.analysis.covariance`):
-    milliseconds to a second where Monte Carlo takes tens of seconds; exact for the linear
-    model, and flagged when the motion leaves its validity (clipping, large attitude errors)."""
+    a fraction of a second where Monte Carlo takes tens of seconds; exact for the linear
+    model, and flagged when the motion leaves its validity (clipping, large attitude errors,
+    a filter lag that matters on this motion: :func:`deterministic_error`)."""
     tolerance = check_positive(tolerance, "tolerance")
     cov = covariance(motion, model, rate, duration, output=output)
-    return verdict_covariance(cov, tolerance, min_sample_rate(motion, tolerance, duration, output),
-                              motion=getattr(motion, "name", "motion"), imu=model.name)
+    r = verdict_covariance(cov, tolerance, min_sample_rate(motion, tolerance, duration, output),
+                           motion=getattr(motion, "name", "motion"), imu=model.name)
+    det = deterministic_error(motion, model, rate, duration, output)
+    r["deterministic_position_m"] = None if det is None else det[0]
+    if det is not None and det[0] > SAMPLING_SHARE * tolerance:
+        r["warnings"].append(
+            f"the filter and range alone, without noise, give a {det[0]:.3g} m position error on "
+            f"this motion (signal lag or clipping: not in the covariance, which models their "
+            f"effect on noise); the error can reach the 95th percentile plus this. Check with "
+            "--method montecarlo")
+    return r
 
 
 def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int, tolerance: float,

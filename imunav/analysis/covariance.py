@@ -26,8 +26,13 @@ resolution q           rate samples: white noise of variance q²/12 per sample (
                        increment k is e_k − e_{k−1} with e white of variance (q h)²/12 — the
                        angle (velocity) error stays bounded; modelled exactly, step by step
 range                  not linear: a warning when the motion's |ω_b| or |f_b| exceeds it
-bandwidth              unit gain at low frequency: no change to the integrated noise (ignored)
-internal_rate          none (the errors are modelled at the output rate)
+bandwidth,             increments (the default): none — the filter has unit gain at low
+internal_rate          frequency and the decimated increments sum the internal ones, so the
+                       integrated noise is unchanged. Rate samples decimated by k (internal
+                       rate / output rate): every k-th sample is kept, so the noise above the
+                       output Nyquist folds onto low frequencies: the white-noise density is
+                       multiplied by √(Σ_{m<k} |H(m·rate)|²) (H the filter, 1 without one:
+                       √k) — :func:`aliasing_gain`
 =====================  ==================================================================
 
 Discretisation: per output step ``h``, with the motion taken at the step's midpoint, the
@@ -127,9 +132,28 @@ def _input(traj: Trajectory, triad: str, M: FloatArray) -> FloatArray:
     return B
 
 
-def terms_of(model: TriadModel, triad: str, traj: Trajectory, output: str = "increments"
-             ) -> list[Term]:
-    """The linear error terms of one triad (see the module docstring)."""
+def aliasing_gain(model: TriadModel, rate: float, decimate: int, output: str) -> float:
+    """Factor on the white-noise density of ``output`` samples at ``rate`` taken every
+    ``decimate``-th of the sensor's internal samples (see the module docstring): the folded
+    power at zero frequency, ``√(Σ_{m=0}^{k−1} |H(m·rate)|²)``."""
+    if output != "rates" or decimate <= 1:
+        return 1.0
+    fi = rate * decimate
+    f = np.arange(decimate) * rate
+    if model.bandwidth and model.bandwidth < 0.5 * fi:
+        from scipy.signal import butter, sosfreqz
+
+        sos = butter(2, model.bandwidth, fs=fi, output="sos")
+        h2 = np.abs(sosfreqz(sos, worN=f, fs=fi)[1]) ** 2
+    else:
+        h2 = np.ones(decimate)
+    return float(np.sqrt(h2.sum()))
+
+
+def terms_of(model: TriadModel, triad: str, traj: Trajectory, output: str = "increments",
+             decimate: int = 1) -> list[Term]:
+    """The linear error terms of one triad (see the module docstring); ``decimate``: internal
+    samples per output sample."""
     N = traj.C.shape[0]
     eye = np.broadcast_to(np.eye(3), (N, 3, 3))
     u = traj.omega if triad == "gyro" else traj.f_b          # the quantity the triad measures
@@ -137,7 +161,7 @@ def terms_of(model: TriadModel, triad: str, traj: Trajectory, output: str = "inc
     out = []
     if model.noise_density:
         q = np.zeros(9)
-        q[rows] = model.noise_density ** 2
+        q[rows] = (model.noise_density * aliasing_gain(model, 1 / traj.h, decimate, output)) ** 2
         out.append(Term(f"{triad}.noise_density", q_nav=q))
     if model.resolution and output == "rates":
         q = np.zeros(9)
@@ -382,7 +406,8 @@ def covariance(motion: BaseMotion, model: ImuModel, rate: float, duration: float
         raise ImunavError("duration must be given (the motion has no default duration)")
     traj = trajectory or Trajectory.of(motion, rate, duration, g)
     linear = [term for triad in ("gyro", "accel")
-              for term in terms_of(getattr(model, triad), triad, traj, output)]
+              for term in terms_of(getattr(model, triad), triad, traj, output,
+                                   model.decimation(rate))]
     terms = dict(zip([t.name for t in linear], propagate_many(linear, traj), strict=True))
     total = sum(terms.values()) if terms else np.zeros((traj.t.size, 9, 9))
     warnings = []

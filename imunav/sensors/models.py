@@ -195,7 +195,7 @@ class TriadStream:
             from scipy.signal import butter
 
             self.sos = butter(2, m.bandwidth, fs=self.rate, output="sos")
-            self.zi = np.zeros((self.sos.shape[0], 2, 3))
+            self.zi = None            # set from the first sample: the sensor ran before t0
         self.total = np.zeros(3)              # increments: exact running sum (quantisation)
         self.qtotal = np.zeros(3)             # increments: quantised running sum
 
@@ -230,8 +230,10 @@ class TriadStream:
         if self.noise_rng is not None:
             y = y + self.noise_rng.normal(0.0, m.noise_density * np.sqrt(self.rate), (n, 3))
         if self.sos is not None:
-            from scipy.signal import sosfilt
+            from scipy.signal import sosfilt, sosfilt_zi
 
+            if self.zi is None:       # steady state for the first input (no start-up transient)
+                self.zi = sosfilt_zi(self.sos)[:, :, None] * y[0]
             y, self.zi = sosfilt(self.sos, y, axis=0, zi=self.zi)
         flags = np.zeros(n, dtype=bool)
         if m.range:
