@@ -37,7 +37,9 @@ May import: anything in imunav (this is the package's facade: it exports what th
 """
 
 from imunav import _aliases
-from imunav.analysis.assessment import assess, format_verdict
+from imunav.analysis.assessment import assess, assess_covariance, format_verdict
+from imunav.analysis.covariance import covariance
+from imunav.analysis.design import design, format_design
 from imunav.analysis.family import run_family
 from imunav.analysis.metrics import NavErrors, nav_errors
 from imunav.analysis.montecarlo import monte_carlo
@@ -83,7 +85,11 @@ __all__ = [
     "PRESETS",
     "States",
     "assess",
+    "assess_covariance",
+    "covariance",
+    "design",
     "euler_to_quat",
+    "format_design",
     "format_verdict",
     "from_scipy",
     "monte_carlo",

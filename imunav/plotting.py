@@ -128,6 +128,39 @@ def plot_envelope(mc: MonteCarloResult, tolerance: float | None = None, ax=None,
     return ax
 
 
+def plot_verdict(r: dict, cov=None, ax=None, top: int = 6, log: bool = False):
+    """The 95th-percentile position envelope of a verdict (either method) against its
+    tolerance; with the :class:`~imunav.analysis.covariance.CovarianceResult` ``cov``, also the
+    ``top`` largest terms alone (their 95th percentiles, thin lines: they do not add up — the
+    variances do)."""
+    import matplotlib.pyplot as plt
+
+    ax = ax or plt.figure(figsize=(9, 4)).add_subplot()
+    env = r["envelope"]
+    t, p95 = np.asarray(env["t"]), np.asarray(env["position_p95_m"])
+    ok = r["suitable"]
+    ax.fill_between(t, 0, p95, color="C2" if ok else "C3", alpha=0.25,
+                    label=f"all terms, 95 % ({r['method']})")
+    ax.plot(t, p95, color="C2" if ok else "C3", lw=2)
+    ax.axhline(r["tolerance_m"], color="k", ls="--", lw=1, label="tolerance")
+    if r["time_p95_exceeds_s"] is not None:
+        ax.axvline(r["time_p95_exceeds_s"], color="C3", ls=":", lw=1,
+                   label=f"crosses at {r['time_p95_exceeds_s']:.1f} s")
+    if cov is not None:
+        idx = np.searchsorted(cov.t, t - 1e-9)
+        for j, name in enumerate(list(r["error_budget"])[:min(top, 6)]):   # C4…C9: unused above
+            ax.plot(t, cov.position_quantile(0.95, term=name, index=idx), lw=1,
+                    color=f"C{4 + j}", label=name)
+    ax.set(xlabel="t (s)", ylabel="position error, 95th pct (m)",
+           title=f"{r['imu']} on {r['motion']} at {r['rate_hz']:g} Hz: "
+                 f"{'SUITABLE' if ok else 'NOT SUITABLE'}")
+    if log:
+        ax.set_yscale("log")
+        ax.set_ylim(bottom=1e-3 * min(r["tolerance_m"], max(p95.max(), 1e-300)))
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    return ax
+
+
 # ------------------------------------------------------------ Allan deviation
 
 def plot_allan(fits: dict, fig=None):

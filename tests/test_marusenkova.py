@@ -95,3 +95,58 @@ def test_physical_signals_favour_imunav():
 def test_fig3_ratio():
     _, omc, ams = M.fig3_data()
     assert omc[-1] / ams[-1] == pytest.approx(3 / np.radians(5), rel=2e-3)  # ≈ 3/α for small α
+
+
+# ------------------------------------------------------------------ the claims (issue 15)
+
+
+def test_rodrigues_and_log_against_scipy(rng):
+    from scipy.spatial.transform import Rotation
+
+    th = rng.normal(size=(50, 3)) * rng.choice([1e-7, 1e-3, 1.0], size=(50, 1))
+    np.testing.assert_allclose(M.rodrigues(th), Rotation.from_rotvec(th).as_matrix(), atol=1e-15)
+    inside = np.linalg.norm(th, axis=1) < 3.0        # the logarithm's principal branch: |θ| < π
+    np.testing.assert_allclose(M.rotation_vector(M.rodrigues(th[inside])), th[inside], atol=1e-14)
+
+
+def test_exact_dcm_update_restores_every_trajectory():
+    """Conclusion 2 ("DCMs can scarcely be amended") settled: the DCM counterpart of the
+    amendment — matrix log in A, Rodrigues in B — closes the round trip to rounding, and mixes
+    with the amended quaternions either way (same rotation vectors)."""
+    for fig in ("fig1a", "fig1b", "fig2"):
+        for a, b in (("dcm_amended", "dcm_amended"), ("dcm_amended", "quat_amended"),
+                     ("quat_amended", "dcm_amended")):
+            assert M.round_trip(fig, 100, a, b)["max"] < 1e-10, (fig, a, b)
+        assert M.round_trip(fig, 100, "dcm", "dcm")["max"] > 1e-2
+
+
+def test_part_a_gyro_follows_minus_nav_rate_at_3s():
+    g = M.gyro_vs_rates(3.0, 100.0)
+    # the forward difference is centred at the midpoint: O(dt²·ω̈) ≈ 1e-3 rad/s here
+    assert g["to_minus_omega_n"] < 2e-3
+    assert g["to_omega_b"] > 0.5                      # far from the body rate
+
+
+def test_yaw_only_restores_z_but_not_xy():
+    for r in M.xy_coincidence():
+        assert r["z"] < 1e-12
+        assert r["xy"] > 1e-2
+
+
+def test_omega_asymmetry_ordering_depends_on_attitude():
+    a = M.omega_asymmetry(samples=4000)
+    assert 0.2 < a["holds"] < 0.5                   # measured 0.31 (20000 samples)
+    lv = a["level"]
+    assert lv["23"] > lv["12"] > lv["13"]            # reversed from the level attitude
+    # independently of eq. (5): C_nbᵀ from scipy, Ω = (C_kᵀ C_{k+1} − I)/dt
+    from scipy.spatial.transform import Rotation
+    C0 = Rotation.from_euler("ZYX", [0, 0, 0]).as_matrix().T
+    C1 = Rotation.from_euler("ZYX", np.radians([0.2, 0.3, 0.1])).as_matrix().T
+    Om = (C0.T @ C1 - np.eye(3)) * 100
+    assert abs(abs(Om[1, 2]) - abs(Om[2, 1])) == pytest.approx(lv["23"], rel=1e-9)
+
+
+def test_arccos_keeps_about_ten_digits_and_does_not_matter():
+    d = M.arccos_digits()
+    assert 8 < d["digits_kept"] < 12                # ≈ log10(Φ²/4ε) at 4e-3 rad steps
+    assert d["round_trip_arccos"] < 1e-10 and d["round_trip_atan2"] < 1e-10

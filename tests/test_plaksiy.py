@@ -112,3 +112,32 @@ def test_usable_as_motion_everywhere():
     sig = simulate_imu(m, 100.0, output="increments")
     err = nav_errors(navigate(sig, m.attitude([0.0])[0]), m)
     assert err.attitude.max() < 3e-6
+
+
+# ------------------------------------------------------------------ the claims (issue 15)
+
+
+def test_regular_precession_is_a_special_case():
+    r = P.regular_precession_check()
+    assert r["max_quaternion_difference"] < 1e-14          # vs scipy's independent product
+    assert r["omega_norm_spread"] < 1e-12 and r["axis_angle_spread"] < 1e-12
+    lo, hi = r["paper_omega_norm_range"]
+    assert hi - lo > 2.0                                    # the paper's motion is not one
+
+
+def test_closed_form_quasi_coordinates_match_quadrature():
+    assert P.closed_form_check(duration=200.0, n=401) < 1e-11
+
+
+def test_chi_minus_psi_turns_steadily():
+    v = P.vibration_check(duration=200.0)
+    assert v["secular_rate_closed_form"][1] == pytest.approx(-1.55, abs=1e-12)   # −k₂, exact
+    assert v["mean_rate_paper"][1] == pytest.approx(-1.55, abs=0.05)            # + bounded part
+    assert v["mean_rate_small_vartheta"][1] == pytest.approx(v["expected_small"], rel=0.2,
+                                                              abs=2e-4)
+
+
+def test_table1_ordering_reversed():
+    o = P.table1_ordering()
+    assert o["paper_conic_over_miller"] < 1 < o["imunav_conic_over_miller"]
+    assert o["imunav_new_over_miller"] < 1 and o["paper_new_over_miller"] < 1

@@ -82,3 +82,16 @@ def test_cli_formats(tmp_path, capsys):
     assert "unknown gyro units" in capsys.readouterr().err
     assert main(["navigate", str(folder / "Inertial.csv"), "--out", str(out)]) == 2
     assert "--initial" in capsys.readouterr().err
+
+
+def test_bias_calibration_judged_out_of_sample():
+    from imunav.io import realdata as R
+
+    s = R.read_ximu3().signals
+    a, b = R.static_segments(s)[0]
+    for split in (a + 20, (a + b) // 2):
+        h = R.holdout_bias(s, a, b, split)
+        # measured: 9.3 → 1.0 mm (split at 0.4 s) and 4.8 → 0.5 mm (at 0.66 s)
+        assert h["out_of_sample"]["final"] < 0.3 * h["raw"]["final"]
+    with pytest.raises(R.ImunavError, match="split"):
+        R.holdout_bias(s, a, b, b)

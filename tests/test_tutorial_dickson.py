@@ -99,3 +99,49 @@ def test_no_saturation_no_orientation_error():
     rec = D.record_blast(gyro_range_dps=3000.0)
     res = D.process(rec)
     assert res.gyro_saturated == 0 and res.final_orientation_error_deg < 0.002   # measured 4.2e-4°
+
+
+# ------------------------------------------------------------------ the claims (issue 15)
+
+
+def test_tutorial_schedule_is_48_and_51_steps():
+    s = T.schedule()
+    assert (s["x_steps"], s["y_steps"], s["total_s"]) == (48, 51, 49.5)
+
+
+def test_unnormalised_norm_growth_has_its_closed_form():
+    u = T.unnormalised()
+    assert u["final_norm"] == pytest.approx(u["closed_form_norm"], rel=1e-13)
+    assert u["angle_to_normalised_deg"] < 1e-10          # the direction is not affected
+    assert u["max_radius_change"] > 0.5                  # but raw quatern2rotMat scales points
+
+
+def test_real_gyro_is_a_rate():
+    r = T.gyro_is_rate_real()
+    assert r["as_rate_error_deg"] < 0.15 * r["device_turn_deg"]
+    assert r["as_acceleration_error_deg"] > 5 * r["as_rate_error_deg"]
+
+
+def test_half_angles_are_required():
+    hq = D.half_angle_question()
+    assert hq["half"]["max_round_trip_error"] < 1e-12
+    assert hq["full"]["max_round_trip_error"] > 1.0
+    assert hq["full"]["max_norm_error"] < 1e-12          # the norm cannot tell them apart
+    # and with half angles the components are imunav's Z-Y-X quaternion
+    a = np.array([0.7, -0.4, 1.9])
+    np.testing.assert_allclose(D.tait_bryan_to_quat_components(*(a / 2)), euler_to_quat(a),
+                               atol=1e-15)
+
+
+def test_second_shock_breaks_the_correction_and_its_check_shows_it():
+    rows = D.multi_event((0.0, 1.0))
+    assert rows[1]["position_error_m"] > 5 * rows[0]["position_error_m"]
+    # between the shocks (0.105 → 0.35 s) the correction is wrong by the second shift:
+    # Δv ≈ 1 g × 0.245 s
+    assert rows[1]["residual_velocity"] == pytest.approx(9.80665 * 0.245, rel=0.1)
+
+
+def test_large_shift_degrades_the_correction():
+    rows = D.large_shift((0.1, 3.0))
+    assert rows[1]["ramp_position_error_m"] > 3 * rows[0]["ramp_position_error_m"]
+    assert rows[1]["ramp_position_error_m"] < 0.1 * rows[1]["uncorrected_position_error_m"]

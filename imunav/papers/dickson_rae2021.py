@@ -30,6 +30,7 @@ May import: anything below the papers (``imunav.core`` … ``imunav.io``), ``imu
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 import numpy.typing as npt
@@ -183,23 +184,34 @@ class BlastRecording:
     info: dict = field(default_factory=dict)
 
 
+@lru_cache(maxsize=4)
+def _ideal_blast(rate: float, g: float):
+    """The ideal rate signals of :func:`blast_motion` (the costly part, computed once)."""
+    motion = blast_motion()
+    return motion, simulate_imu(motion, rate, motion.duration, output="rates", g=g)
+
+
 def record_blast(motion: Motion | None = None, rate: float = 100_000.0, seed: int = 0,
                  gyro_range_dps: float = 300.0, accel_range_g: float = 2000.0,
                  cutoff_hz: float = 5_000.0, bias_g=(0.05, -0.03, 0.02),
                  shift_g=(0.2, -0.25, 0.15), noise_g: float = 0.02, noise_dps: float = 0.05,
-                 g: float = G0) -> BlastRecording:
+                 g: float = G0, shifts=None, shift_ramp: float = 0.0) -> BlastRecording:
     """Record the event with a ±2000 g / ±300°/s 6-axis sensor at 100 kHz.
 
     Sensor model: ideal rates → white noise (``noise_g``, ``noise_dps`` rms) → a 4th-order
     Butterworth low-pass at ``cutoff_hz`` (zero-phase, like export-time filtering) → a
-    pre-event accelerometer offset ``bias_g`` and a baseline shift ``shift_g`` from 5 ms after
-    the impulse on → clipping at the ranges. All randomness from ``seed``.
+    pre-event accelerometer offset ``bias_g`` and baseline shifts → clipping at the ranges.
+    ``shifts``: ``[(time_s, shift_g (3,)), …]``, each added from its time on (each developing
+    linearly over ``shift_ramp`` s); default one shift ``shift_g`` from 5 ms after the impulse.
+    All randomness from ``seed``.
     """
     from scipy.signal import butter, sosfiltfilt
 
-    motion = motion or blast_motion()
     rate = check_positive(rate, "rate")
-    sig = simulate_imu(motion, rate, motion.duration, output="rates", g=g)
+    if motion is None:
+        motion, sig = _ideal_blast(float(rate), float(g))
+    else:
+        sig = simulate_imu(motion, rate, motion.duration, output="rates", g=g)
     rng = np.random.default_rng(seed)
     gr, ar = gyro_range_dps * DEG, accel_range_g * g
     gyro = sig.gyro + rng.normal(0, noise_dps * DEG, sig.gyro.shape)
@@ -208,15 +220,20 @@ def record_blast(motion: Motion | None = None, rate: float = 100_000.0, seed: in
     gyro = sosfiltfilt(sos, gyro, axis=0)
     accel = sosfiltfilt(sos, accel, axis=0)
     accel = accel + np.asarray(bias_g) * g
-    after = sig.t >= 0.1 + 0.005
-    accel[after] += np.asarray(shift_g) * g
+    shifts = [(0.1 + 0.005, shift_g)] if shifts is None else list(shifts)
+    for t_s, sh in shifts:
+        if shift_ramp > 0:
+            w = np.clip((sig.t - t_s) / shift_ramp, 0.0, 1.0)
+        else:
+            w = (sig.t >= t_s).astype(float)
+        accel += w[:, None] * np.asarray(sh, float) * g
     gyro_clipped = np.abs(gyro) >= gr
     gyro = np.clip(gyro, -gr, gr)
     accel = np.clip(accel, -ar, ar)
     return BlastRecording(sig.t, gyro, accel, rate, gr, ar, motion.attitude(sig.t),
                           motion.position(sig.t), motion.velocity(sig.t),
                           {"gyro_clipped_true": int(np.any(gyro_clipped, axis=1).sum()),
-                           "bias_g": bias_g, "shift_g": shift_g})
+                           "bias_g": bias_g, "shifts": shifts})
 
 
 @dataclass
@@ -375,16 +392,181 @@ def reproduce(out) -> list[dict]:
         f = fn()
         f.savefig(out / f"dickson_rae2021_{name}.png", dpi=90)
         plt.close(f)
-    return [
+    f = plot_tait_bryan()
+    f.savefig(out / "dickson_rae2021_fig1_tait_bryan.png", dpi=90)
+    plt.close(f)
+    recs = [
         record("dickson_rae2021.synthetic.final_orientation_error_deg", "final resting "
                "orientation error, synthetic blast event (gyro clipped for "
                f"{res.gyro_saturated / rec.rate * 1e3:.1f} ms)", 3.0,
-               res.final_orientation_error_deg, "deg",
-               "paper: < 3° (an upper bound); known initial orientation as in the paper"),
+               res.final_orientation_error_deg, "deg", "reproduced",
+               "the paper's 3° is an upper bound ('< 3°'), not a measured value; on an event "
+               "built to meet its assumptions the error stays below it",
+               "known initial orientation as in the paper"),
         record("dickson_rae2021.synthetic.residual_velocity_corrected", "|v| at the end after "
                "the baseline-shift correction (assumptions A and B)", None,
-               res.residual_velocity_corrected, "m/s",
+               res.residual_velocity_corrected, "m/s", "no paper value",
+               "the chain's own check (the object ends at rest) passes on an event that "
+               "satisfies its assumptions — by construction, so not evidence of accuracy",
                f"uncorrected {res.residual_velocity_uncorrected:.2f} m/s; final position error "
                f"{res.final_position_error_uncorrected:.2f} m → "
                f"{res.final_position_error_corrected:.2f} m"),
     ]
+    me = multi_event()
+    one = me[0]
+    for row in me[1:]:
+        tag = f"{row['second_shift_g']:g}g".replace(".", "p")
+        recs.append(record(f"dickson_rae2021.multi_event.position_error_second_shift_{tag}",
+                           f"final position error after correction, a second baseline shift of "
+                           f"{row['second_shift_g']:g} g at the bounce (0.35 s)", None,
+                           row["position_error_m"], "m", "no paper value",
+                           "assumption B (one shift after the first rapid motion) fails: the "
+                           f"error grows from {one['position_error_m']:.2f} m, and the residual "
+                           f"velocity ({row['residual_velocity']:.2f} m/s) shows it"))
+    recs.append(record("dickson_rae2021.multi_event.residual_velocity_second_shift_1g",
+                       "residual velocity after correction, second shift of 1 g", None,
+                       me[-1]["residual_velocity"], "m/s", "no paper value",
+                       "the correction subtracts the final residual from the first onset on, "
+                       "so between the shocks it is wrong by the second shift"))
+    ls = large_shift()
+    for row in ls:
+        tag = f"{row['shift_g']:g}g".replace(".", "p")
+        recs.append(record(f"dickson_rae2021.large_shift.position_error_{tag}",
+                           f"final position error after correction, ±20 000 g range, a "
+                           f"{row['shift_g']:g} g baseline shift building up over 20 ms", None,
+                           row["ramp_position_error_m"], "m", "no paper value",
+                           "the correction is exact only for a step at the detected onset; a "
+                           "shift that builds up during the event leaves an error growing with "
+                           f"its size (uncorrected {row['uncorrected_position_error_m']:.1f} m; "
+                           f"as a step {row['step_position_error_m']:.2f} m)"))
+    hq = half_angle_question()
+    recs.append(record("dickson_rae2021.eq13_16.half_angles", "largest round-trip error of "
+                       "eqs. (13)–(16) read with full angles through the paper's angle formulas",
+                       None, hq["full"]["max_round_trip_error"], "rad", "no paper value",
+                       "the text's (13)–(16) show no halves; with half angles the round trip "
+                       f"closes ({hq['half']['max_round_trip_error']:.0e} rad), with full angles "
+                       "it returns twice the angles: halves are required (likely lost in OCR, "
+                       "as the minus signs are)"))
+    return recs
+
+# ------------------------------------------------------------- where the chain fails (issue 15)
+
+
+def scenario(gyro_range_dps: float = 300.0, shift_size_g: float = 0.35, shift_time: float = 0.105,
+             bias_size_g: float = 0.06, second_shift_g: float = 0.0, second_time: float = 0.35,
+             accel_range_g: float = 2000.0, shift_ramp: float = 0.0, seed: int = 0
+             ) -> tuple[BlastRecording, BlastResult]:
+    """One recording and its processing with the sensor's imperfections as parameters (the
+    notebook's widgets): gyro range, the size (|·| in g, along the default shift's direction)
+    and time of the baseline shift, the pre-event offset's size, an optional second shift at
+    ``second_time`` (a second shock: several events in one record), and the accelerometer
+    range."""
+    d_shift = np.array([0.2, -0.25, 0.15]) / np.linalg.norm([0.2, -0.25, 0.15])
+    d_second = np.array([-0.3, 0.2, -0.25]) / np.linalg.norm([-0.3, 0.2, -0.25])
+    d_bias = np.array([0.05, -0.03, 0.02]) / np.linalg.norm([0.05, -0.03, 0.02])
+    shifts = [(shift_time, shift_size_g * d_shift)]
+    if second_shift_g:
+        shifts.append((second_time, second_shift_g * d_second))
+    rec = record_blast(seed=seed, gyro_range_dps=gyro_range_dps, accel_range_g=accel_range_g,
+                       bias_g=bias_size_g * d_bias, shifts=shifts, shift_ramp=shift_ramp)
+    return rec, process(rec)
+
+
+def multi_event(second_shift_g=(0.0, 0.1, 0.3, 1.0)) -> list[dict]:
+    """Assumption B ("after the first rapid motion the baseline shifts to a constant") broken
+    by a second shock: the baseline changes again at the hard bounce (0.35 s). The correction
+    subtracts the final residual from the first onset on, so between the two shocks it is
+    wrong by the second shift. Final position error and residual velocity, corrected."""
+    rows = []
+    for s2 in second_shift_g:
+        _, r = scenario(second_shift_g=s2)
+        rows.append({"second_shift_g": s2, "position_error_m": r.final_position_error_corrected,
+                     "residual_velocity": r.residual_velocity_corrected,
+                     "position_error_uncorrected_m": r.final_position_error_uncorrected})
+    return rows
+
+
+def large_shift(sizes_g=(0.1, 0.35, 1.0, 3.0), ramp: float = 0.02) -> list[dict]:
+    """The paper's ±20 000 g modules "shift bias by up to 3 g": the correction is exact only
+    for a step exactly at the detected onset. A shift that builds up during the event (over
+    ``ramp`` s from 5 ms after the impulse) leaves an error that grows with its size.
+    ±20 000 g range; final position error after correction vs shift size, step and ramp."""
+    rows = []
+    for sz in sizes_g:
+        _, step = scenario(shift_size_g=sz, accel_range_g=20000.0)
+        _, ramped = scenario(shift_size_g=sz, accel_range_g=20000.0, shift_ramp=ramp)
+        rows.append({"shift_g": sz, "step_position_error_m": step.final_position_error_corrected,
+                     "ramp_position_error_m": ramped.final_position_error_corrected,
+                     "uncorrected_position_error_m": ramped.final_position_error_uncorrected})
+    return rows
+
+
+def half_angle_question(seed: int = 3) -> dict:
+    """Eqs. (13)–(16) in the text read ``q₀ = cos ψ cos θ cos φ + sin ψ sin θ sin φ`` … without
+    halves (and without minus signs: the OCR drops "−" throughout). Which reading is right?
+    The norm cannot tell — the components are the same polynomial in (cos x, sin x) either way,
+    so |q| = 1 for both. The round trip through the paper's own angle formulas (the ``arctan2``
+    / ``arcsin`` ones) can: with half angles it returns (ψ, θ, φ); with full angles it returns
+    (2ψ, 2θ, 2φ) wrapped — the rotation by twice the angles. Returns the largest round-trip
+    error of each reading (rad) over random angles, and both norms' largest |1 − |q||."""
+    rng = np.random.default_rng(seed)
+    ang = np.column_stack([rng.uniform(-np.pi, np.pi, 200), rng.uniform(-1.2, 1.2, 200),
+                           rng.uniform(-np.pi, np.pi, 200)])
+    out = {}
+    for name, f in (("half", 0.5), ("full", 1.0)):
+        q = np.stack([tait_bryan_to_quat_components(*(a * f)) for a in ang])
+        back = quat_to_tait_bryan(q)
+        err = np.abs(np.angle(np.exp(1j * (back - ang))))
+        out[name] = {"max_round_trip_error": float(err.max()),
+                     "max_norm_error": float(np.abs(np.linalg.norm(q, axis=1) - 1).max())}
+    return out
+
+
+def tait_bryan_to_quat_components(a: float, b: float, c: float) -> FloatArray:
+    """Eqs. (13)–(16) as functions of their printed arguments: ``q₀ = cos a cos b cos c + sin a
+    sin b sin c`` … (the reading with half angles passes a = ψ/2, b = θ/2, c = φ/2)."""
+    ca, sa, cb, sb, cc, sc = np.cos(a), np.sin(a), np.cos(b), np.sin(b), np.cos(c), np.sin(c)
+    return np.array([ca * cb * cc + sa * sb * sc, ca * cb * sc - sa * sb * cc,
+                     ca * sb * cc + sa * cb * sc, sa * cb * cc - ca * sb * sc])
+
+
+def plot_tait_bryan(psi: float = 40 * DEG, theta: float = 25 * DEG, phi: float = 30 * DEG,
+                    fig=None):
+    """Fig. 1 of the paper: the intrinsic Tait–Bryan sequence on a body, in 3-D — heading ψ
+    about z, then elevation θ about the new y, then bank φ about the new x — drawn in the
+    fixed NED frame (x north, y east, z down: the z axis is drawn pointing down)."""
+    import matplotlib.pyplot as plt
+
+    fig = fig or plt.figure(figsize=(14, 4.4))
+    steps = [("object = fixed frame", (0.0, 0.0, 0.0)),
+             (f"heading ψ = {np.degrees(psi):.0f}° about z", (psi, 0.0, 0.0)),
+             (f"elevation θ = {np.degrees(theta):.0f}° about new y", (psi, theta, 0.0)),
+             (f"bank φ = {np.degrees(phi):.0f}° about new x", (psi, theta, phi))]
+    colours = ("C3", "C2", "C0")
+    for n, (title, (a, b, c)) in enumerate(steps):
+        ax = fig.add_subplot(1, 4, n + 1, projection="3d")
+        q = tait_bryan_to_quat(a, b, c)
+        for i, (col, lab) in enumerate(zip(colours, ("x (north)", "y (east)", "z (down)"),
+                                           strict=True)):
+            e = np.eye(3)[i]
+            ax.plot(*np.stack([np.zeros(3), e]).T, color=col, lw=0.8, ls=":")
+            ax.text(*(1.15 * e), lab.split()[0], color=col, fontsize=7)
+            b_axis = _rotate(q, e)
+            ax.quiver(0, 0, 0, *b_axis, color=col, lw=2, arrow_length_ratio=0.15)
+            ax.text(*(1.05 * b_axis), f"{'XYZ'[i]}", color=col, fontsize=9, weight="bold")
+        base, nose = _cone(length=0.9, radius=0.2)
+        bb = _rotate(np.broadcast_to(q, base.shape[:-1] + (4,)), base + [0.45, 0, 0])
+        nn = _rotate(q, nose + [0.45, 0, 0])
+        ax.plot(*bb.T, color="0.55", lw=0.8)
+        for k in range(0, len(bb), 3):
+            ax.plot(*np.stack([bb[k], nn]).T, color="0.55", lw=0.5)
+        ax.set(xlim=(-1.1, 1.1), ylim=(-1.1, 1.1), zlim=(1.1, -1.1), xticks=[], yticks=[],
+               zticks=[], title=title)
+        ax.set_xlabel("north", fontsize=7, labelpad=-12)
+        ax.set_ylabel("east", fontsize=7, labelpad=-12)
+        ax.set_zlabel("down", fontsize=7, labelpad=-14)
+        ax.title.set_fontsize(9)
+    fig.suptitle("Fig. 1: Tait–Bryan intrinsic rotations (dotted: fixed NED axes; arrows: "
+                 "object axes X, Y, Z; the cone's nose is X)", fontsize=10)
+    fig.subplots_adjust(left=0.0, right=0.97, wspace=0.05, top=0.88, bottom=0.02)
+    return fig

@@ -80,6 +80,89 @@ def run(dt: float = 0.5, steps: int = 100, rate_x: float = np.pi / 8, rate_y: fl
     return TutorialRun(np.arange(steps) * dt, w, Q, *pts)
 
 
+def schedule(dt: float = 0.5, steps: int = 100, switch: int = 50) -> dict:
+    """What the MATLAB loop actually runs: ``for i=2:100`` is 99 steps of ``dt`` (49.5 s), the
+    X rotation while ``i < 50`` (48 steps: 24 s), the Y rotation for ``i = 50..100`` (51 steps:
+    25.5 s) — the text says 50 s, 25 s + 25 s (and the code's comments "50 first/last steps")."""
+    i = np.arange(2, steps + 1)
+    return {"x_s": float(np.sum(i < switch) * dt), "y_s": float(np.sum(i >= switch) * dt),
+            "total_s": float(i.size * dt), "x_steps": int(np.sum(i < switch)),
+            "y_steps": int(np.sum(i >= switch))}
+
+
+def madgwick_rotmat_raw(q: FloatArray) -> FloatArray:
+    """Madgwick's ``quatern2rotMat`` exactly as written (``2q₀² − 1 + 2q₁²`` …): it assumes a unit
+    quaternion and does not normalise, so a grown quaternion scales and shears the points."""
+    w, x, y, z = np.moveaxis(np.asarray(q, float), -1, 0)
+    return np.stack([
+        np.stack([2 * w * w - 1 + 2 * x * x, 2 * (x * y + w * z), 2 * (x * z - w * y)], -1),
+        np.stack([2 * (x * y - w * z), 2 * w * w - 1 + 2 * y * y, 2 * (y * z + w * x)], -1),
+        np.stack([2 * (x * z + w * y), 2 * (y * z - w * x), 2 * w * w - 1 + 2 * z * z], -1)], -2)
+
+
+def unnormalised(dt: float = 0.5, steps: int = 100, rate_x: float = np.pi / 8,
+                 rate_y: float = np.pi / 16, switch: int = 50) -> dict:
+    """The example without its normalisation line. Each first-order step multiplies |Q| by
+    √(1 + (|ω| dt/2)²) exactly (``Q ⊗ [0, ω]`` is orthogonal to ``Q``), so the final norm has
+    the closed form ∏ √(1 + (|ω_k| dt/2)²); the direction is the same as with normalisation
+    (the update is linear in Q). The points, rotated by the raw ``quatern2rotMat``, leave the
+    sphere they should stay on. Returns the computed and closed-form final norm, the final
+    angle to the normalised run, and the largest relative change of |P|."""
+    sch = schedule(dt, steps, switch)
+    Q = np.empty((steps, 4))
+    Q[0] = [1.0, 0.0, 0.0, 0.0]
+    for k in range(1, steps):
+        w = [rate_x, 0.0, 0.0] if k + 1 < switch else [0.0, rate_y, 0.0]
+        Q[k] = Q[k - 1] + _mul(0.5 * Q[k - 1], np.concatenate([[0.0], w])) * dt
+    closed = (np.sqrt(1 + (rate_x * dt / 2) ** 2) ** sch["x_steps"]
+              * np.sqrt(1 + (rate_y * dt / 2) ** 2) ** sch["y_steps"])
+    norms = np.linalg.norm(Q, axis=1)
+    P = np.einsum("kij,j->ki", madgwick_rotmat_raw(Q), P0)
+    radius = np.linalg.norm(P, axis=1) / np.linalg.norm(P0)
+    ref = run(dt, steps, rate_x, rate_y, switch)
+    return {"final_norm": float(norms[-1]), "closed_form_norm": float(closed), "norms": norms,
+            "angle_to_normalised_deg": float(np.degrees(_angle(Q[-1] / norms[-1], ref.Q[-1]))),
+            "max_radius_change": float(np.abs(radius - 1).max()), "radius": radius}
+
+
+def gyro_is_rate_real(window: float = 0.5) -> dict:
+    """Is a gyroscope's output an angular velocity (the tutorial's first sentence says
+    acceleration)? Settled on real hardware, independently of imunav's simulator: over windows
+    of the x-IMU3 recording, the device's own orientation (its onboard fusion, which also uses
+    the accelerometer) turns by some angle; integrating the gyro output *once* (as a rate)
+    reproduces it, integrating it *twice* (as an acceleration, the tutorial's reading) does not.
+    Returns the median |error| of each reading (deg) and the median device rotation."""
+    from imunav.io import realdata as R
+
+    rec = R.read_ximu3()
+    sig = rec.signals
+    qd = R.device_as_q_nb(rec)
+    n = int(round(window * sig.rate))
+    once, twice, turned = [], [], []
+    for i in range(int(sig.rate), len(sig) - n - 1, n):
+        a = int(np.searchsorted(rec.device_t, sig.t[i]))
+        b = int(np.searchsorted(rec.device_t, sig.t[i + n]))
+        if b >= len(rec.device_t):
+            break
+        dev = _angle(qd[a], qd[b])
+        w = sig.gyro[i:i + n]
+        h = 1.0 / sig.rate
+        q1 = np.array([1.0, 0, 0, 0])
+        q2 = np.array([1.0, 0, 0, 0])
+        rate2 = np.zeros(3)
+        for k in range(n):
+            q1 = _mul(q1, _exp(w[k] * h))             # ω as an angular velocity
+            rate2 = rate2 + w[k] * h                  # ω as an acceleration: integrate to a rate
+            q2 = _mul(q2, _exp(rate2 * h))
+        rel = _mul(qd[a] * [1, -1, -1, -1], qd[b])
+        once.append(np.degrees(_angle(q1, rel)))
+        twice.append(np.degrees(_angle(q2, rel)))
+        turned.append(np.degrees(dev))
+    return {"window_s": window, "windows": len(once), "device_turn_deg": float(np.median(turned)),
+            "as_rate_error_deg": float(np.median(once)),
+            "as_acceleration_error_deg": float(np.median(twice))}
+
+
 def angle_error(dt: float = 0.5, duration: float | None = None, **kw) -> FloatArray:
     """Angle (rad) between the first-order and the exact (true) attitude at every step."""
     a = run(dt, update="first_order", duration=duration, **kw)
@@ -141,8 +224,39 @@ def reproduce(out) -> list[dict]:
     fig.tight_layout()
     fig.savefig(out / "tutorial_error.png", dpi=90)
     plt.close(fig)
-    return [record("tutorial.final_angle_error_first_order_deg", "angle between the first-order "
-                   "(normalised) and the true attitude after the 100-step example", None,
-                   float(np.degrees(e[-1])), "deg",
-                   f"exact update = true rotation (piecewise-constant rate); error order in dt "
-                   f"{order:.2f}")]
+    sch = schedule()
+    un = unnormalised()
+    real = gyro_is_rate_real()
+    return [
+        record("tutorial.final_angle_error_first_order_deg", "angle between the first-order "
+               "(normalised) and the true attitude after the 100-step example", None,
+               float(np.degrees(e[-1])), "deg", "no paper value",
+               "the tutorial shows the plot only; the exact update is the true rotation here "
+               f"(piecewise-constant rate), and the error falls as dt^{order:.2f}"),
+        record("tutorial.schedule.total_s", "duration the MATLAB loop runs", 50.0,
+               sch["total_s"], "s", "differs",
+               "for i=2:100 is 99 steps of 0.5 s: 49.5 s, not 50 s"),
+        record("tutorial.schedule.x_rotation_s", "time rotating about X", 25.0, sch["x_s"], "s",
+               "differs", "i < 50 holds for 48 steps: 24 s, not the stated 25 s"),
+        record("tutorial.schedule.y_rotation_s", "time rotating about Y", 25.0, sch["y_s"], "s",
+               "differs", "i = 50..100 is 51 steps: 25.5 s, not the stated 25 s"),
+        record("tutorial.unnormalised.final_norm", "|Q| after the example without its "
+               "normalisation line", None, un["final_norm"], "1", "no paper value",
+               "each first-order step multiplies |Q| by √(1 + (|ω| dt/2)²): the closed form "
+               f"gives {un['closed_form_norm']:.12f}; the direction is unchanged "
+               f"({un['angle_to_normalised_deg']:.1e}°)"),
+        record("tutorial.unnormalised.max_point_radius_change", "largest relative change of "
+               "the rotated point's distance from the origin, unnormalised, raw quatern2rotMat",
+               None, un["max_radius_change"], "1", "no paper value",
+               "quatern2rotMat assumes |Q| = 1: the grown quaternion scales the points off "
+               "their sphere, which is why the normalisation line matters"),
+        record("tutorial.claim.gyro_measures_angular_acceleration", "median error (deg) of the "
+               f"x-IMU3 gyro integrated twice, as an acceleration, against the device's own "
+               f"orientation over {real['window_s']} s windows", None,
+               real["as_acceleration_error_deg"], "deg", "differs",
+               f"on real hardware, integrated once (as a rate) the gyro follows the device's "
+               f"fused orientation within {real['as_rate_error_deg']:.1f}° over turns of "
+               f"{real['device_turn_deg']:.0f}°; integrated twice it misses by "
+               f"{real['as_acceleration_error_deg']:.0f}°: a gyroscope measures angular "
+               "velocity"),
+    ]

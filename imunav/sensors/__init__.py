@@ -8,7 +8,7 @@ datasheets), :mod:`~imunav.sensors.presets`, :mod:`~imunav.sensors.allan`.
 May import: ``imunav.core``, ``imunav.motion``.
 """
 
-from imunav.sensors.allan import allan_deviation, gauss_markov_allan_variance
+from imunav.sensors.allan import allan_deviation, fit_allan, gauss_markov_allan_variance
 from imunav.sensors.models import (
     ImuModel,
     MeasureStream,
@@ -24,6 +24,6 @@ from imunav.sensors.signals import KINDS, ImuSignals
 from imunav.sensors.simulate import sample_times, simulate_imu, truth_states
 
 __all__ = ["KINDS", "PRESETS", "ImuModel", "ImuSignals", "MeasureStream", "TriadModel",
-           "TriadStream", "allan_deviation", "apply_triad", "bias_instability_sigma",
+           "TriadStream", "allan_deviation", "apply_triad", "bias_instability_sigma", "fit_allan",
            "gauss_markov_allan_variance", "integrate_consecutive", "integrate_intervals",
            "measure", "sample_times", "simulate_imu", "truth_states"]

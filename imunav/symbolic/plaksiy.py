@@ -13,6 +13,9 @@ Findings (each computed by a function here and shown in notebook 02):
    (:func:`omega_discrepancy` simplifies the difference to zero); eq. (5) is therefore the
    body-frame (Hamilton, right-multiplied) angular velocity, the same convention as imunav's
    gyro.
+4. For linear angle laws (rational frequencies) the seeming turn vector θ(t) = ∫₀ᵗ ω dt —
+   hence the quasi-coordinates (7) — has a closed form, a finite sum of sinusoids plus a
+   secular term (:func:`seeming_turn_closed_form`), as the paper states.
 
 May import: nothing from imunav but ``imunav.symbolic``.
 """
@@ -164,3 +167,21 @@ def quaternion_lambdified(corrected: bool = True):
     a = sp.symbols("a0:4", real=True)
     exprs = [e.subs(dict(zip(ANGLES, a, strict=True))) for e in printed_eq3(corrected)]
     return sp.lambdify(a, exprs, "numpy")
+
+
+def seeming_turn_closed_form(k) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+    """θ(t) = ∫₀ᵗ ω dt in closed form for the linear laws φ = k₁t, ψ = k₂t, ϑ = k₃t, χ = k₄t
+    (the paper's eqs. (5)–(6)); ``k`` rational (e.g. ``sp.Rational(31, 20)``) for exact
+    results. Each product of sines and cosines is turned into a sum (``TR8``) and integrated
+    term by term."""
+    from sympy.simplify.fu import TR8
+
+    u = sp.Symbol("u", real=True)
+    kk = [sp.nsimplify(x) for x in k]
+    laws = {a: ki * u for a, ki in zip(ANGLES, kk, strict=True)}
+    rates = {sp.diff(a, t): ki for a, ki in zip(ANGLES, kk, strict=True)}
+    out = []
+    for w in printed_eq5():
+        e = sp.expand(TR8(sp.expand(w.subs(rates).subs(laws))))
+        out.append(sp.integrate(e, (u, 0, t)))
+    return tuple(out)
