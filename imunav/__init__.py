@@ -3,9 +3,9 @@
 Glossary (one set of conventions, everywhere in the API)
 --------------------------------------------------------
 Frames
-    ``n``  navigation frame, NED: x north, y east, z down; flat, non-rotating.
-           Gravity is ``g_n = [0, 0, +g]`` with ``g = 9.80665`` m/s² unless overridden.
-    ``b``  body (sensor) frame: x forward, y right, z down.
+    ``n``: navigation frame, NED: x north, y east, z down; flat, non-rotating; gravity
+    ``g_n = [0, 0, +g]`` with ``g = 9.80665`` m/s² unless overridden.
+    ``b``: body (sensor) frame: x forward, y right, z down.
 Quaternions
     Hamilton product, scalar first ``q = [w, x, y, z]``, arrays of shape ``(..., 4)``.
     ``q_nb`` takes body vectors to the navigation frame: ``v_n = q ⊗ v_b ⊗ q*``.
@@ -63,7 +63,7 @@ from imunav.core.rotations import (
 from imunav.core.states import States
 from imunav.core.validation import ImunavError
 from imunav.io.realdata import read_generic, read_ximu, read_ximu3
-from imunav.motion import BaseMotion, Motion
+from imunav.motion import BaseMotion, Motion, PoseMotion, WaypointMotion
 from imunav.sensors import PRESETS, ImuModel, ImuSignals, simulate_imu, truth_states
 from imunav.strapdown import ALGORITHMS, DEFAULT_ALGORITHM, NavResult, navigate
 
@@ -83,6 +83,7 @@ __all__ = [
     "NavErrors",
     "NavResult",
     "PRESETS",
+    "PoseMotion",
     "States",
     "assess",
     "assess_covariance",
@@ -112,5 +113,6 @@ __all__ = [
     "run_family",
     "simulate_imu",
     "to_scipy",
+    "WaypointMotion",
     "truth_states",
 ]

@@ -33,7 +33,7 @@ from imunav.io.files import (
     SignalFile,
     format_allan,
     imu_toml,
-    load_motion_toml,
+    load_motion,
     read_initial_state,
     read_signals,
     save_figure,
@@ -91,7 +91,8 @@ def build_parser() -> argparse.ArgumentParser:
     presets = ", ".join(PRESETS)
 
     s = sub.add_parser("simulate", help="IMU signals from MOTION.toml (ideal, or with --imu)")
-    s.add_argument("motion", metavar="MOTION.toml")
+    s.add_argument("motion", metavar="MOTION", help=MOTION_HELP)
+    _smoothing_options(s)
     s.add_argument("--rate", required=True, type=_positive("--rate"), metavar="HZ")
     s.add_argument("--out", required=True, metavar="SIGNALS.csv")
     s.add_argument("--output", choices=("rates", "increments"), default="rates")
@@ -129,7 +130,8 @@ def build_parser() -> argparse.ArgumentParser:
     n.add_argument("--g", type=_positive("--g"), metavar="G", help="gravity (m/s²), 9.80665")
 
     a = sub.add_parser("assess", help="can this IMU track this motion? (the verdict)")
-    a.add_argument("motion", metavar="MOTION.toml")
+    a.add_argument("motion", metavar="MOTION", help=MOTION_HELP)
+    _smoothing_options(a)
     a.add_argument("--imu", required=True, metavar="PRESET|IMU.toml")
     a.add_argument("--rate", required=True, type=_positive("--rate"), metavar="HZ")
     a.add_argument("--tolerance", required=True, type=_positive("--tolerance"), metavar="POS_M")
@@ -144,7 +146,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="run the Monte Carlo on a Dask cluster (imunav[dask])")
 
     d = sub.add_parser("design", help="the worst IMU that still meets a tolerance on a motion")
-    d.add_argument("motion", metavar="MOTION.toml")
+    d.add_argument("motion", metavar="MOTION", help=MOTION_HELP)
+    _smoothing_options(d)
     d.add_argument("--imu", required=True, metavar="BASE",
                    help="the IMU whose terms are varied: a preset or an IMU.toml")
     d.add_argument("--rate", required=True, type=_positive("--rate"), metavar="HZ")
@@ -173,6 +176,23 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+MOTION_HELP = ("the motion: MOTION.toml (analytic laws), a pose CSV (t,x,y,z,qw,qx,qy,qz, or a "
+               "truth CSV) or a waypoints TOML ([[waypoint]] tables)")
+
+
+def _smoothing_options(p) -> None:
+    p.add_argument("--smoothing", type=_positive("--smoothing"), metavar="M",
+                   help="pose CSV: position noise level (m) for a smoothing spline")
+    p.add_argument("--attitude-smoothing", type=_positive("--attitude-smoothing"),
+                   metavar="RAD", help="pose CSV: attitude noise level (rad)")
+
+
+def _motion(args):
+    """The motion file of any kind → (motion, duration, g or None)."""
+    return load_motion(args.motion, smoothing=args.smoothing,
+                       attitude_smoothing=args.attitude_smoothing)
+
+
 def _imu(spec: str | None) -> tuple[ImuModel | None, list]:
     """The --imu model and, if it is a file, that file as an input."""
     if spec is None:
@@ -183,7 +203,7 @@ def _imu(spec: str | None) -> tuple[ImuModel | None, list]:
 def cmd_simulate(args) -> int:
     model, imu_files = _imu(args.imu)
     out = check_outputs({"--out": args.out, "--truth": args.truth}, [args.motion, *imu_files])
-    motion, duration, g_file = load_motion_toml(args.motion)
+    motion, duration, g_file = _motion(args)
     g = args.g if args.g is not None else (g_file if g_file is not None else G0)
     n = interval_count(args.rate, duration)
     check_disk(out["--out"], (n + 1) * ROW_BYTES["signals"], "this simulation")
@@ -210,7 +230,10 @@ def cmd_simulate(args) -> int:
     if clipped[0]:
         print(f"imunav: warning: {clipped[0]} samples clipped at the sensor range",
               file=sys.stderr)
-    print(f"wrote {rows} {args.output} rows at {args.rate:g} Hz to {args.out}")
+    offset = getattr(motion, "time_offset", 0.0)
+    note = (f" (t = 0 is the first pose or waypoint, t = {offset:g} s in {args.motion})"
+            if offset else "")
+    print(f"wrote {rows} {args.output} rows at {args.rate:g} Hz to {args.out}{note}")
     return 0
 
 
@@ -225,7 +248,7 @@ def cmd_assess(args) -> int:
                          ("--scheduler", args.scheduler)):
             if val is not None:
                 raise ImunavError(f"{opt} applies to --method montecarlo only")
-    motion, duration, g_file = load_motion_toml(args.motion)
+    motion, duration, g_file = _motion(args)
     if method == "covariance":
         r = assess_covariance(motion, model, args.rate, args.tolerance, duration=duration)
     else:
@@ -240,7 +263,7 @@ def cmd_assess(args) -> int:
 def cmd_design(args) -> int:
     model, imu_files = _imu(args.imu)
     out = check_outputs({"--json": args.json}, [args.motion, *imu_files])
-    motion, duration, g_file = load_motion_toml(args.motion)
+    motion, duration, g_file = _motion(args)
     r = design(motion, model, args.rate, args.tolerance, duration=duration)
     print(format_design(r))
     if args.json:
@@ -398,6 +421,12 @@ def _run(command, args) -> int:
         except ImunavError as exc:
             print(f"imunav: error: {exc}", file=sys.stderr)
             return 2
+        except BrokenPipeError:                              # `imunav … | head`: not an error
+            try:
+                sys.stdout = open(os.devnull, "w")           # noqa: SIM115 — swallow the flush
+            except OSError:
+                pass
+            return 0
         except OSError as exc:                               # unreadable/unwritable paths
             where = f": {exc.filename}" if exc.filename else ""
             print(f"imunav: error: {exc.strerror or exc}{where}", file=sys.stderr)

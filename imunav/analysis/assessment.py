@@ -15,7 +15,7 @@ from imunav.analysis.metrics import nav_errors
 from imunav.analysis.montecarlo import MonteCarloResult, monte_carlo
 from imunav.analysis.roundtrip import initial_state
 from imunav.core.validation import check_positive
-from imunav.motion.base import BaseMotion
+from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import ImuModel, TriadModel
 from imunav.sensors.simulate import simulate_imu
 from imunav.strapdown.registry import navigate
@@ -44,11 +44,11 @@ def min_sample_rate(motion: BaseMotion, tolerance: float, duration: float | None
                     output: str = "increments", candidates=RATE_CANDIDATES) -> float | None:
     """Smallest candidate rate at which the sampling error alone (ideal sensor, default
     algorithm) stays within :data:`SAMPLING_SHARE` of ``tolerance`` over the whole motion."""
-    duration = duration or motion.duration
     for r in candidates:
-        if r * duration < 10:
+        d = span(motion, r, duration) if r * (duration or motion.duration or 0) >= 10 else None
+        if d is None:
             continue
-        if sampling_error(motion, r, duration, output) <= SAMPLING_SHARE * tolerance:
+        if sampling_error(motion, r, d, output) <= SAMPLING_SHARE * tolerance:
             return float(r)
     return None
 

@@ -56,8 +56,8 @@ from scipy.special import erf, gammaincinv, ndtri
 from imunav.analysis.gaussnorm import chi3_cdf, norm_cdf, norm_quantile
 from imunav.core.constants import G0
 from imunav.core.rotations import FloatArray, _dcm
-from imunav.core.validation import ImunavError, check_gravity, check_positive
-from imunav.motion.base import BaseMotion
+from imunav.core.validation import check_gravity, check_positive
+from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import ImuModel, TriadModel, _flicker_bank, bias_instability_sigma
 from imunav.sensors.simulate import interval_count
 
@@ -401,9 +401,7 @@ def covariance(motion: BaseMotion, model: ImuModel, rate: float, duration: float
     """Propagate every linear error term of ``model`` along ``motion`` at ``rate`` Hz, for
     ``output`` signals (``increments``: quantisation with a carried residual).
     ``trajectory``: the motion already sampled by :meth:`Trajectory.of` (to reuse it)."""
-    duration = duration or motion.duration
-    if duration is None:
-        raise ImunavError("duration must be given (the motion has no default duration)")
+    duration = span(motion, rate, duration)
     traj = trajectory or Trajectory.of(motion, rate, duration, g)
     linear = [term for triad in ("gyro", "accel")
               for term in terms_of(getattr(model, triad), triad, traj, output,

@@ -16,7 +16,7 @@ from imunav.analysis.assessment import PERCENTILE, SUITABLE_FRACTION, min_sample
 from imunav.analysis.covariance import Trajectory, covariance
 from imunav.core.units import SPEC
 from imunav.core.validation import check_positive
-from imunav.motion.base import BaseMotion
+from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import ImuModel
 from imunav.sensors.presets import PRESETS
 
@@ -46,8 +46,8 @@ def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
     preset ranked (the numbers of ``imunav design``; the JSON it writes)."""
     tolerance = check_positive(tolerance, "tolerance")
     p = PERCENTILE / 100
-    duration = duration or motion.duration
-    traj = Trajectory.of(motion, rate, duration) if duration else None
+    duration = span(motion, rate, duration)
+    traj = Trajectory.of(motion, rate, duration)
     cov = covariance(motion, base, rate, duration, output=output, trajectory=traj)
     terms = {}
     for term in cov.terms:

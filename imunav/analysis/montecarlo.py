@@ -20,7 +20,7 @@ from imunav.core.constants import G0
 from imunav.core.resources import check_memory
 from imunav.core.rotations import FloatArray, _angle
 from imunav.core.validation import ImunavError, check_int, check_positive
-from imunav.motion.base import BaseMotion
+from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import ImuModel, measure
 from imunav.sensors.simulate import interval_count, simulate_imu
 from imunav.strapdown.registry import navigate_batch
@@ -79,9 +79,7 @@ def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: floa
     rate = check_positive(rate, "rate")
     runs = check_int(runs, "runs", 1)
     seed = check_int(seed, "seed", 0)
-    duration = duration or motion.duration
-    if duration is None:
-        raise ImunavError("duration must be given (the motion has no default duration)")
+    duration = span(motion, rate, duration)
     k = model.decimation(rate)
     n = interval_count(rate, duration)
     chunk = chunk or max(1, min(runs, int(2e6 // max(n, 1))))

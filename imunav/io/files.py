@@ -5,6 +5,11 @@ CSV headers (exactly):
 - rates:       ``t,gx,gy,gz,ax,ay,az``        (s, rad/s, m/s²), one row per t_k, k = 0..N
 - increments:  ``t,dthx,dthy,dthz,dvx,dvy,dvz`` (s, rad, m/s), one row per interval end, k = 1..N
 - truth / nav: ``t,x,y,z,vx,vy,vz,qw,qx,qy,qz`` (s, m, m/s, scalar-first q_nb)
+- poses:       ``t,x,y,z,qw,qx,qy,qz``          (s, m, scalar-first q_nb) — a motion from data;
+  a truth CSV is accepted as poses too (its velocities are ignored)
+
+Motions: ``MOTION.toml`` (analytic laws), a pose CSV, or a waypoints TOML (``[[waypoint]]``
+tables) — :func:`load_motion` tells them apart by extension and content.
 
 Numbers are written as the shortest decimal that reads back as the same double, so every value
 survives a write and a read exactly. Files of any length are read and written in chunks
@@ -29,11 +34,13 @@ from imunav.core.states import States
 from imunav.core.validation import ImunavError, check_gravity, check_positive, read_toml
 from imunav.io.csvio import CsvWriter, atomic_write_text, first_row, read_chunks, read_header
 from imunav.motion.analytic import Motion
+from imunav.motion.base import BaseMotion
 from imunav.sensors.signals import ImuSignals
 
 RATES_HEADER = ("t", "gx", "gy", "gz", "ax", "ay", "az")
 INCREMENTS_HEADER = ("t", "dthx", "dthy", "dthz", "dvx", "dvy", "dvz")
 STATE_HEADER = ("t", "x", "y", "z", "vx", "vy", "vz", "qw", "qx", "qy", "qz")
+POSE_HEADER = ("t", "x", "y", "z", "qw", "qx", "qy", "qz")
 HEADERS = {"rates": RATES_HEADER, "increments": INCREMENTS_HEADER}
 
 #: Approximate bytes per written row (disk-space checks before long runs).
@@ -59,6 +66,118 @@ def load_motion_toml(path: str | Path) -> tuple[Motion, float, float | None]:
     if g is not None:
         g = check_positive(g, f"{path}: g")
     return Motion.from_dict(spec, name=path.stem), duration, g
+
+
+def load_motion(path: str | Path, *, smoothing: float | None = None,
+                attitude_smoothing: float | None = None) -> tuple[BaseMotion, float, float | None]:
+    """Any motion file → ``(motion, duration, g or None)``.
+
+    ``*.csv``: poses (header ``t,x,y,z,qw,qx,qy,qz``, or a truth CSV) → a
+    :class:`~imunav.motion.trajectory.PoseMotion` (``smoothing``, ``attitude_smoothing``: noise
+    levels in m and rad for smoothing splines). ``*.toml`` with ``[[waypoint]]`` tables → a
+    :class:`~imunav.motion.trajectory.WaypointMotion` (:func:`load_waypoints`); any other TOML →
+    analytic laws (:func:`load_motion_toml`). Times of data motions start at the first pose or
+    waypoint (the motion's t = 0 is that time).
+    """
+    path = Path(path)
+    if path.suffix.lower() == ".csv":
+        return load_poses(path, smoothing=smoothing, attitude_smoothing=attitude_smoothing)
+    if smoothing is not None or attitude_smoothing is not None:
+        raise ImunavError("--smoothing and --attitude-smoothing apply to pose CSV files only")
+    spec = read_toml(path, "motion file")
+    if "waypoint" in spec:
+        return load_waypoints(path, spec)
+    return load_motion_toml(path)
+
+
+def load_poses(path: str | Path, *, smoothing: float | None = None,
+               attitude_smoothing: float | None = None) -> tuple[BaseMotion, float, None]:
+    """A pose CSV (``t,x,y,z,qw,qx,qy,qz``, or a truth CSV whose velocities are ignored)."""
+    from imunav.motion.trajectory import PoseMotion
+
+    path = Path(path)
+    header = read_header(path, "pose")
+    if header not in (POSE_HEADER, STATE_HEADER):
+        raise ImunavError(f"{path}: unrecognised header {','.join(header)!r}; expected "
+                          f"{','.join(POSE_HEADER)!r} (poses) or {','.join(STATE_HEADER)!r} "
+                          "(a truth CSV)")
+    check_memory(8 * 4 * len(header) * max(path.stat().st_size // 40, 1), "the pose file")
+    rows = [b for b in read_chunks(path, header, "pose")]
+    data = np.concatenate(rows) if rows else np.zeros((0, len(header)))
+    q = data[:, -4:]
+    try:
+        motion = PoseMotion(data[:, 0], data[:, 1:4], q, smoothing=smoothing,
+                            attitude_smoothing=attitude_smoothing, name=path.stem,
+                            row_name=f"{path}, line", first_row=2)
+    except ImunavError as exc:
+        msg = str(exc)
+        raise ImunavError(msg if msg.startswith(str(path)) else f"{path}: {msg}") from None
+    return motion, motion.duration, None
+
+
+#: Keys of a waypoints TOML: top level, and each ``[[waypoint]]``.
+WAYPOINT_TOP = {"waypoint", "orientation", "name", "g"}
+WAYPOINT_KEYS = {"t", "x", "y", "z", "yaw", "pitch", "roll"}
+WAYPOINT_UNITS = {"t": "s", "x": "m", "y": "m", "z": "m", "yaw": "rad", "pitch": "rad",
+                  "roll": "rad"}
+
+
+def load_waypoints(path: str | Path, spec: dict | None = None
+                   ) -> tuple[BaseMotion, float, float | None]:
+    """A waypoints TOML: ``[[waypoint]]`` tables with ``t``, ``x``, ``y``, ``z`` (s, m, NED) and
+    optional ``yaw``, ``pitch``, ``roll`` (rad), plus top-level ``orientation = "given" |
+    "follow"`` (default given) and optional ``g`` (m/s²) and ``name``."""
+    from imunav.motion.trajectory import ORIENTATIONS, WaypointMotion
+
+    path = Path(path)
+    spec = read_toml(path, "waypoints file") if spec is None else spec
+    bad = sorted(set(spec) - WAYPOINT_TOP)
+    if bad:
+        raise ImunavError(f"{path}: unknown top-level key(s) {', '.join(bad)}; expected "
+                          f"{', '.join(sorted(WAYPOINT_TOP))}")
+    orientation = spec.get("orientation", "given")
+    if orientation not in ORIENTATIONS:
+        raise ImunavError(f"{path}: orientation must be \"given\" or \"follow\", got "
+                          f"{orientation!r}")
+    wps = spec["waypoint"]
+    if not isinstance(wps, list) or not all(isinstance(w, dict) for w in wps):
+        raise ImunavError(f"{path}: 'waypoint' must be [[waypoint]] tables")
+    if len(wps) < 2:
+        raise ImunavError(f"{path}: {len(wps)} waypoint(s); a route needs at least 2")
+    t, p, a = [], [], []
+    for n, w in enumerate(wps, start=1):
+        bad = sorted(set(w) - WAYPOINT_KEYS)
+        if bad:
+            raise ImunavError(f"{path}: waypoint {n}: unknown key(s) {', '.join(bad)}; expected "
+                              f"{', '.join(sorted(WAYPOINT_KEYS))}")
+        for key in ("t", "x", "y", "z"):
+            if key not in w:
+                raise ImunavError(f"{path}: waypoint {n}: missing {key!r}")
+        if orientation == "follow" and set(w) & {"yaw", "pitch", "roll"}:
+            raise ImunavError(f"{path}: waypoint {n}: orientation = \"follow\" derives yaw, "
+                              "pitch and roll from the path; remove them or use \"given\"")
+        vals = {}
+        for key in WAYPOINT_KEYS & set(w):
+            v = w[key]
+            if isinstance(v, bool) or not isinstance(v, int | float) or not np.isfinite(v):
+                raise ImunavError(f"{path}: waypoint {n}: {key} must be a finite number "
+                                  f"({WAYPOINT_UNITS[key]}), got {v!r}")
+            vals[key] = float(v)
+        if n > 1 and vals["t"] <= t[-1]:
+            raise ImunavError(f"{path}: waypoint {n}: t = {vals['t']:g} is not after waypoint "
+                              f"{n - 1}'s t = {t[-1]:g} (times must strictly increase)")
+        t.append(vals["t"])
+        p.append([vals["x"], vals["y"], vals["z"]])
+        a.append([vals.get("yaw", 0.0), vals.get("pitch", 0.0), vals.get("roll", 0.0)])
+    g = spec.get("g")
+    g = None if g is None else check_positive(g, f"{path}: g")
+    try:
+        motion = WaypointMotion(t, p, a if orientation == "given" else None,
+                                orientation=orientation, g=g or G0,
+                                name=str(spec.get("name", path.stem)))
+    except ImunavError as exc:
+        raise ImunavError(f"{path}: {exc}") from None
+    return motion, motion.duration, g
 
 
 class SignalFile:

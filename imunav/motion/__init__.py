@@ -1,10 +1,11 @@
 """Layer 1 — motions: what a rigid body does at any time (position, velocity, acceleration,
-attitude, body rate, specific force), from analytic laws, closed-form quaternion laws or named
-benchmarks.
+attitude, body rate, specific force), from analytic laws, closed-form quaternion laws, named
+benchmarks, or data (timed poses and waypoint routes as splines).
 
 Modules: :mod:`~imunav.motion.base` (the interface), :mod:`~imunav.motion.laws` (the safe law
 parser), :mod:`~imunav.motion.analytic` (:class:`Motion`), :mod:`~imunav.motion.quaternion_law`,
-:mod:`~imunav.motion.catalog` (coning, sculling, … and examples).
+:mod:`~imunav.motion.catalog` (coning, sculling, … and examples),
+:mod:`~imunav.motion.trajectory` (:class:`PoseMotion`, :class:`WaypointMotion`).
 
 May import: ``imunav.core``.
 """
@@ -14,6 +15,7 @@ from imunav.motion.analytic import ATTITUDE_KEYS, POSITION_KEYS, Motion
 from imunav.motion.base import BaseMotion
 from imunav.motion.laws import T, parse_law
 from imunav.motion.quaternion_law import FourRotationMotion, QuaternionLawMotion
+from imunav.motion.trajectory import PoseMotion, WaypointMotion
 
 __all__ = ["ATTITUDE_KEYS", "BaseMotion", "FourRotationMotion", "G0", "Motion", "POSITION_KEYS",
-           "QuaternionLawMotion", "T", "parse_law"]
+           "PoseMotion", "QuaternionLawMotion", "T", "WaypointMotion", "parse_law"]

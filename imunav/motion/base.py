@@ -74,6 +74,30 @@ class BaseMotion:
         return States(t, self.position(t), self.velocity(t), self.attitude(t))
 
 
+def span(motion: BaseMotion, rate: float, duration: float | None = None) -> float:
+    """The duration to run ``motion`` at ``rate`` Hz: ``duration``, else the motion's own.
+
+    A motion defined only on ``[0, motion.duration]`` (``bounded``: data — poses, waypoints)
+    is never run past its end: the number of intervals is at most ``⌊duration × rate⌋``, so
+    the last sample falls inside the data (the usual rule elsewhere is ``round``).
+    """
+    from imunav.core.validation import ImunavError, check_positive
+
+    rate = check_positive(rate, "rate")
+    d = motion.duration if duration is None else duration
+    if d is None:
+        raise ImunavError("duration must be given (the motion has no default duration)")
+    d = check_positive(d, "duration")
+    if getattr(motion, "bounded", False):
+        n_max = int(np.floor(motion.duration * rate + 1e-9))
+        n = min(int(round(d * rate)), n_max)
+        if n < 1:
+            raise ImunavError(f"{getattr(motion, 'name', 'motion')}: {motion.duration:g} s of "
+                              f"data hold no whole sample interval at {rate:g} Hz")
+        d = n / rate
+    return d
+
+
 def times(t: npt.ArrayLike) -> FloatArray:
     """Times as a finite float array (any shape), or an ImunavError naming ``t``."""
     return as_float_array(t, "t")

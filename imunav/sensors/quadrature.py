@@ -197,3 +197,23 @@ def integrate_intervals(f, a: npt.ArrayLike, b: npt.ArrayLike, *, rtol: float = 
             out[idx[ok]] = cur[ok]
             idx, prev, last = idx[~ok], cur[~ok], diff[~ok]
     return out
+
+
+def integrate_piecewise(f, t0: float, h: float, k0: int, k1: int, breakpoints: npt.ArrayLike,
+                        width: int = 6) -> FloatArray:
+    """``∫ f dt`` over ``[t0 + k h, t0 + (k+1) h]``, ``k = k0 .. k1−1``, for an integrand that is
+    smooth only between ``breakpoints`` (a spline motion's knots): every interval is split at
+    the breakpoints inside it and each piece integrated by :func:`integrate_intervals` (which
+    converges fast on a smooth piece), then the pieces are summed. Returns (k1 − k0, width)."""
+    bounds = t0 + np.arange(k0, k1 + 1) * h
+    bp = np.asarray(breakpoints, float)
+    inside = bp[(bp > bounds[0]) & (bp < bounds[-1])]
+    edges = np.union1d(bounds, inside)
+    a, b = edges[:-1], edges[1:]
+    keep = b > a
+    a, b = a[keep], b[keep]
+    owner = np.clip(np.searchsorted(bounds, a, side="right") - 1, 0, k1 - k0 - 1)
+    parts = integrate_intervals(f, a, b, width=width)
+    out = np.zeros((k1 - k0, width))
+    np.add.at(out, owner, parts)
+    return out

@@ -38,9 +38,9 @@ from imunav.core.validation import (
     check_int,
     check_positive,
 )
-from imunav.motion.base import BaseMotion
+from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import MeasureStream
-from imunav.sensors.quadrature import integrate_consecutive
+from imunav.sensors.quadrature import integrate_consecutive, integrate_piecewise
 from imunav.sensors.signals import KINDS, ImuSignals
 
 __all__ = ["ideal_chunks", "interval_count", "measured_chunks", "sample_times", "simulate_imu",
@@ -84,12 +84,8 @@ def check_work(n: int, rate: float, what: str = "this simulation") -> None:
                           f"the limit is {MAX_SAMPLES:.0e}: lower the rate or the duration")
 
 
-def _duration(motion: BaseMotion, duration) -> float:
-    if duration is None:
-        duration = motion.duration
-        if duration is None:
-            raise ImunavError("duration must be given (the motion has no default duration)")
-    return check_positive(duration, "duration")
+def _duration(motion: BaseMotion, duration, rate: float) -> float:
+    return span(motion, rate, duration)
 
 
 def ideal_chunks(motion: BaseMotion, rate: float, duration: float | None = None, *,
@@ -99,7 +95,7 @@ def ideal_chunks(motion: BaseMotion, rate: float, duration: float | None = None,
     most ``chunk`` samples (bounded memory for any duration)."""
     if output not in KINDS:
         raise ImunavError(f"output must be one of {KINDS}, got {output!r}")
-    duration = _duration(motion, duration)
+    duration = _duration(motion, duration, rate)
     rate = check_positive(rate, "rate")
     g = check_gravity(g)
     t0 = float(as_float_array(t0, "t0", ndim=0))
@@ -112,8 +108,13 @@ def ideal_chunks(motion: BaseMotion, rate: float, duration: float | None = None,
         if output == "rates":
             yield t, motion.angular_rate(t), motion.specific_force(t, g)
         else:
-            inc = integrate_consecutive(lambda s: _imu(motion, s, g), t0, 1.0 / rate,
-                                        int(k[0]) - 1, int(k[-1]), groups=2)
+            bp = getattr(motion, "breakpoints", None)
+            if bp is not None and len(bp):        # a spline: integrate piece by piece
+                inc = integrate_piecewise(lambda s: _imu(motion, s, g), t0, 1.0 / rate,
+                                          int(k[0]) - 1, int(k[-1]), bp)
+            else:
+                inc = integrate_consecutive(lambda s: _imu(motion, s, g), t0, 1.0 / rate,
+                                            int(k[0]) - 1, int(k[-1]), groups=2)
             yield t, inc[:, :3], inc[:, 3:]
 
 
@@ -135,6 +136,7 @@ def measured_chunks(motion: BaseMotion, model, rate: float, duration: float | No
     rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0])
     stream = MeasureStream(model, output, rate * k, rng, k)
     size = max(k, chunk // k * k)
+    duration = span(motion, rate, duration)          # whole output intervals (data motions)
     for t, gyro, accel in ideal_chunks(motion, rate * k, duration, output=output, g=g, t0=t0,
                                        chunk=size):
         gm, am, flags = stream.process(gyro, accel)
@@ -177,7 +179,7 @@ def simulate_imu(motion: BaseMotion, rate: float, duration: float | None = None,
         Also when the arrays would not fit in memory (the command line streams to a file
         instead, for any duration).
     """
-    duration = _duration(motion, duration)
+    duration = _duration(motion, duration, rate)
     n = interval_count(rate, duration)
     k = 1 if imu is None else imu.decimation(rate)
     check_memory(8 * 7 * (n + 1) * (1 + k) + 64e6, f"simulating {n:,} samples",

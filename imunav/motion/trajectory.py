@@ -1,0 +1,369 @@
+"""Motions from data: timed poses and waypoint routes as smooth, exactly differentiable splines.
+
+Two :class:`~imunav.motion.base.BaseMotion` implementations, so simulation, navigation,
+assessment and Monte Carlo take them unchanged:
+
+:class:`PoseMotion` — timed poses (times, NED positions, ``q_nb`` attitudes), e.g. motion
+capture or a camera trajectory.
+
+- Position: a quintic spline (``scipy.interpolate.make_interp_spline``, ``k = 5``, not-a-knot
+  ends) through every position; velocity, acceleration and so the specific force are its exact
+  derivatives, continuous (C⁴). With ``smoothing = σ`` (m) a quintic *smoothing* spline
+  (FITPACK ``splrep``, residual sum ``s = n σ²``: FITPACK's rule for noise of standard deviation σ)
+  replaces it — needed for real capture data, whose millimetres of noise are amplified by
+  ``(π·rate)²`` when differentiated twice (1 mm at 100 Hz: ≈ 100 m/s² of noise in f_b).
+- Attitude: scipy's ``RotationSpline`` — a cubic spline in rotation vectors with continuous
+  angular rate and angular acceleration, whose angular rate (``order=1``) is the body rate ω_b.
+  Chosen over a cumulative B-spline because it *interpolates* (passes through every given
+  attitude; a cumulative B-spline approximates its control poses) and gives ω_b and its
+  derivative in closed form. With ``attitude_smoothing = σ`` (rad) the quaternion components
+  (sign-aligned) are first smoothed by a quintic smoothing spline (``s = n σ²`` per component),
+  renormalised, and the spline passes through those.
+- Both pass through every given pose (to ~1e-15 without smoothing).
+- Times are measured from the first pose (the motion starts at t = 0; ``time_offset`` keeps
+  the original start).
+
+:class:`WaypointMotion` — a route of two or more timed waypoints that starts and ends at rest.
+
+- Position: a quintic spline through the waypoints with zero velocity and acceleration at both
+  ends (clamped), so a route of two points is already a smooth rest-to-rest move.
+- Attitude ``"given"``: yaw, pitch, roll per waypoint (radians; yaw and roll unwrapped) through
+  the same clamped quintic, so the body is at rest at both ends too; ω_b from the Euler rates.
+- Attitude ``"follow"``: yaw along the horizontal velocity, pitch along the climb
+  (``atan2(−v_d, |v_h|)``), roll for a coordinated turn ``atan(|v|·ψ̇/g)``, all with exact
+  derivatives from the spline's (ψ̇ and ψ̈ need the jerk and snap, which a quintic has). At the
+  rest ends the velocity vanishes like τ² (τ the time from the end), so the direction is taken
+  from ``v/τ²`` — a polynomial there — and stays defined and smooth.
+
+Both expose ``breakpoints`` (the pose or waypoint times): the increments quadrature splits its
+intervals there, so each piece is smooth and the increments are exact for the spline motion.
+
+May import: ``imunav.core``, ``imunav.motion.base``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import numpy.typing as npt
+
+from imunav.core.constants import G0
+from imunav.core.rotations import FloatArray, euler_to_quat
+from imunav.core.validation import ImunavError, as_float_array
+from imunav.motion.base import BaseMotion, times
+
+#: Quintic position splines need this many poses (a not-a-knot quintic: 6 coefficients).
+MIN_POSES = 6
+#: Evaluating this far outside [0, duration] (s) is accepted (rounding of sample times).
+EDGE = 1e-9
+
+
+def _check_times(t: npt.ArrayLike, what: str, first_row: int = 1) -> FloatArray:
+    t = as_float_array(t, "t", ndim=1)
+    bad = np.nonzero(np.diff(t) <= 0)[0]
+    if bad.size:
+        i = int(bad[0]) + 1
+        raise ImunavError(f"{what} {i + first_row}: t = {t[i]:.10g} is not after the previous "
+                          f"t = {t[i - 1]:.10g} (times must strictly increase)")
+    return t
+
+
+class _Spline(BaseMotion):
+    """Shared: the time window and its check."""
+
+    time_offset: float = 0.0
+    breakpoints: FloatArray
+    #: defined on [0, duration] only: runs stop at the last whole sample (``base.span``)
+    bounded = True
+
+    def _t(self, t: npt.ArrayLike) -> FloatArray:
+        t = times(t)
+        if t.size and (t.min() < -EDGE or t.max() > self.duration + EDGE):
+            raise ImunavError(f"{self.name}: the motion is defined from 0 to {self.duration:g} s "
+                              f"(data end there), asked at t = "
+                              f"{(t.min() if t.min() < -EDGE else t.max()):.6g} s")
+        return np.clip(t, 0.0, self.duration)
+
+    def position(self, t):
+        return self._pos(self._t(t))
+
+    def velocity(self, t):
+        return self._pos.derivative(1)(self._t(t))
+
+    def acceleration(self, t):
+        return self._pos.derivative(2)(self._t(t))
+
+
+class PoseMotion(_Spline):
+    """Timed poses as a smooth motion (see the module docstring).
+
+    Parameters
+    ----------
+    t : (n,) strictly increasing times (s), n ≥ 6
+    position : (n, 3) NED positions (m)
+    attitude : (n, 4) ``q_nb`` quaternions, scalar first, unit norm (to 1e-6)
+    smoothing : noise standard deviation of the positions (m), or None to interpolate
+    attitude_smoothing : noise standard deviation of the attitudes (rad), or None
+    row_name, first_row : how errors name a pose (``"line"``, 2 for a CSV file's data rows)
+    """
+
+    def __init__(self, t, position, attitude, *, smoothing: float | None = None,
+                 attitude_smoothing: float | None = None, name: str = "poses",
+                 row_name: str = "pose", first_row: int = 1):
+        from scipy.interpolate import make_interp_spline
+        from scipy.spatial.transform import Rotation, RotationSpline
+
+        what = row_name
+        t = _check_times(t, what, first_row)
+        n = t.size
+        if n < MIN_POSES:
+            raise ImunavError(f"{n} poses: a quintic spline needs at least {MIN_POSES}")
+        p = as_float_array(position, "position", last=3)
+        q = as_float_array(attitude, "attitude", last=4)
+        if p.shape[0] != n or q.shape[0] != n:
+            raise ImunavError(f"{n} times but {p.shape[0]} positions and {q.shape[0]} attitudes")
+        norm = np.linalg.norm(q, axis=1)
+        bad = np.nonzero(np.abs(norm - 1) > 1e-6)[0]
+        if bad.size:
+            i = int(bad[0])
+            raise ImunavError(f"{what} {i + first_row}: quaternion norm {norm[i]:.9g} is not 1 "
+                              "(expected a unit q_nb, scalar first)")
+        q = q / norm[:, None]
+        # sign continuity: q and −q are the same attitude; keep consecutive ones close
+        flips = np.cumsum(np.concatenate([[0], np.sum(q[1:] * q[:-1], axis=1) < 0])) % 2
+        q = np.where(flips[:, None] == 1, -q, q)
+        self.time_offset = float(t[0])
+        tt = t - t[0]
+        self.duration = float(tt[-1])
+        self.name = name
+        self.breakpoints = tt
+        self.smoothing, self.attitude_smoothing = smoothing, attitude_smoothing
+        if smoothing is None:
+            self._pos = make_interp_spline(tt, p, k=5)
+        else:
+            self._pos = _smoothing_spline(tt, p, _positive(smoothing, "smoothing"))
+        if attitude_smoothing is not None:
+            qs = _smoothing_spline(tt, q, _positive(attitude_smoothing, "attitude_smoothing"))(tt)
+            q = qs / np.linalg.norm(qs, axis=1, keepdims=True)
+        self._rot = RotationSpline(tt, Rotation.from_quat(q, scalar_first=True))
+
+    def attitude(self, t):
+        q = self._rot(self._t(t).ravel()).as_quat(scalar_first=True)
+        return q.reshape(np.shape(t) + (4,))
+
+    def angular_rate(self, t):
+        t = self._t(t)
+        return self._rot(t.ravel(), 1).reshape(t.shape + (3,))
+
+    def __repr__(self) -> str:
+        return (f"PoseMotion({self.breakpoints.size} poses over {self.duration:g} s, "
+                f"smoothing={self.smoothing}, attitude_smoothing={self.attitude_smoothing})")
+
+
+def _positive(x, name: str) -> float:
+    x = float(x)
+    if not np.isfinite(x) or x <= 0:
+        raise ImunavError(f"{name} must be a positive noise level, got {x!r}")
+    return x
+
+
+class _Stack:
+    """Several 1-D splines evaluated side by side, with ``derivative`` like a BSpline."""
+
+    def __init__(self, splines):
+        self.splines = list(splines)
+
+    def __call__(self, t):
+        return np.stack([s(t) for s in self.splines], axis=-1)
+
+    def derivative(self, nu: int = 1) -> _Stack:
+        return _Stack(s.derivative(nu) for s in self.splines)
+
+
+def _smoothing_spline(t: FloatArray, y: FloatArray, sigma: float) -> _Stack:
+    """Quintic smoothing splines of each column: residual sum ``n σ²`` (FITPACK's rule).
+
+    FITPACK's own ``splrep`` (Fortran), not ``make_splrep`` (its Python port, same spline to
+    1e-13): with σ below the data's noise the knot search nearly interpolates, which took the
+    port 84 s on 3001 poses and ``splrep`` 0.8 s."""
+    from scipy.interpolate import BSpline, splrep
+
+    return _Stack(BSpline(*splrep(t, y[:, j], k=5, s=t.size * sigma**2), extrapolate=True)
+                  for j in range(y.shape[1]))
+
+
+# --------------------------------------------------------------------------------- waypoints
+
+ORIENTATIONS = ("given", "follow")
+
+
+def _at_rest_spline(t: FloatArray, y: FloatArray):
+    """Quintic through ``y`` with zero first and second derivatives at both ends."""
+    from scipy.interpolate import make_interp_spline
+
+    zero = [(1, np.zeros(y.shape[1])), (2, np.zeros(y.shape[1]))]
+    return make_interp_spline(t, y, k=5, bc_type=(zero, zero))
+
+
+def euler_rates_to_body(ypr: FloatArray, rates: FloatArray) -> FloatArray:
+    """ω_b from Z-Y-X Euler angles and their rates: ``[φ̇ − ψ̇ sin θ,
+    θ̇ cos φ + ψ̇ cos θ sin φ, −θ̇ sin φ + ψ̇ cos θ cos φ]``."""
+    _, th, ph = np.moveaxis(ypr, -1, 0)
+    dps, dth, dph = np.moveaxis(rates, -1, 0)
+    return np.stack([dph - dps * np.sin(th),
+                     dth * np.cos(ph) + dps * np.cos(th) * np.sin(ph),
+                     -dth * np.sin(ph) + dps * np.cos(th) * np.cos(ph)], -1)
+
+
+class WaypointMotion(_Spline):
+    """A route of timed waypoints, at rest at both ends (see the module docstring).
+
+    Parameters
+    ----------
+    t : (n,) strictly increasing times (s), n ≥ 2
+    position : (n, 3) NED positions (m)
+    ypr : (n, 3) yaw, pitch, roll (rad) for ``orientation="given"`` (None: all zero)
+    orientation : ``"given"`` or ``"follow"``
+    g : gravity for the coordinated-turn roll of ``"follow"`` (m/s²)
+    """
+
+    def __init__(self, t, position, ypr=None, *, orientation: str = "given", g: float = G0,
+                 name: str = "waypoints"):
+        t = _check_times(t, "waypoint")
+        n = t.size
+        if n < 2:
+            raise ImunavError(f"{n} waypoint(s): a route needs at least 2")
+        if orientation not in ORIENTATIONS:
+            raise ImunavError(f"orientation must be one of {ORIENTATIONS}, got {orientation!r}")
+        p = as_float_array(position, "position", last=3)
+        if p.shape[0] != n:
+            raise ImunavError(f"{n} times but {p.shape[0]} positions")
+        self.time_offset = float(t[0])
+        tt = t - t[0]
+        self.duration = float(tt[-1])
+        self.name, self.orientation, self.g = name, orientation, float(g)
+        self.breakpoints = tt
+        self._pos = _at_rest_spline(tt, p)
+        if orientation == "given":
+            a = np.zeros((n, 3)) if ypr is None else as_float_array(ypr, "ypr", last=3)
+            if a.shape[0] != n:
+                raise ImunavError(f"{n} waypoints but {a.shape[0]} attitudes")
+            a = a.copy()
+            a[:, 0] = np.unwrap(a[:, 0])
+            a[:, 2] = np.unwrap(a[:, 2])
+            self._eul = _at_rest_spline(tt, a)
+        else:
+            from scipy.interpolate import BSpline, PPoly
+
+            d = self._pos.derivative(1)
+            pps = [PPoly.from_spline(BSpline(d.t, d.c[:, i], d.k)) for i in range(3)]
+            x = pps[0].x
+            keep = np.diff(x) > 0                          # drop the repeated end knots
+            c = np.stack([pp.c for pp in pps], axis=-1)    # (k+1, pieces, 3), highest first
+            self._pieces = (x[:-1][keep], np.diff(x)[keep], c[::-1][:, keep])
+            self._check_heading()
+
+    # ------------------------------------------------------------------ attitude
+    def _euler_and_rates(self, t: FloatArray) -> tuple[FloatArray, FloatArray]:
+        if self.orientation == "given":
+            return self._eul(t), self._eul.derivative(1)(t)
+        return self._follow(t)
+
+    def attitude(self, t):
+        t = self._t(t)
+        return euler_to_quat(self._euler_and_rates(t)[0])
+
+    def angular_rate(self, t):
+        t = self._t(t)
+        e, r = self._euler_and_rates(t)
+        return euler_rates_to_body(e, r)
+
+    def _w(self, t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
+        """The velocity direction carrier ``w`` and its first two derivatives, with
+        ``v = s(t)·w``: ``s = τ²`` near a rest end (τ the time from that end: v and a vanish
+        there, so v/τ² is a polynomial), 1 elsewhere. Returns ``(w, w', w'', s, s')``."""
+        starts, lengths, coef = self._pieces            # coef: (deg+1, m, 3), lowest power first
+        shape = t.shape
+        t = t.ravel()
+        j = np.clip(np.searchsorted(starts, t, side="right") - 1, 0, starts.size - 1)
+        tau0 = t - starts[j]
+        L = lengths[j]
+        a = coef[:, j]                                   # (deg+1, n, 3)
+        deg = a.shape[0] - 1
+        near_start = (j == 0) & (tau0 <= L / 2)
+        near_end = (j == starts.size - 1) & ~near_start
+        shift = np.where(near_end, L, 0.0)                # τ = τ0 − shift
+        tau = tau0 - shift
+        end = near_start | near_end
+        b = _reexpand(a, shift)                           # v = Σ b_i τ^i
+        m = np.where(end, 2, 0)                           # v = τ^m w
+        w = np.zeros((t.size, 3))
+        w1 = np.zeros((t.size, 3))
+        w2 = np.zeros((t.size, 3))
+        for i in range(deg + 1):
+            e = i - m                                     # power of τ in w
+            ok = e >= 0
+            coef_i = np.where(ok[:, None], b[i], 0.0)
+            ee = np.maximum(e, 0)
+            w += coef_i * (tau ** ee)[:, None]
+            w1 += np.where((e >= 1)[:, None], coef_i * (ee * tau ** np.maximum(ee - 1, 0))[:, None], 0)
+            w2 += np.where((e >= 2)[:, None],
+                           coef_i * (ee * (ee - 1) * tau ** np.maximum(ee - 2, 0))[:, None], 0)
+        s = np.where(end, tau ** 2, 1.0)
+        s1 = np.where(end, 2 * tau, 0.0)
+
+        def r(x):
+            return x.reshape(shape + x.shape[1:])
+        return r(w), r(w1), r(w2), r(s), r(s1)
+
+    def _follow(self, t: FloatArray) -> tuple[FloatArray, FloatArray]:
+        w, w1, w2, s, s1 = self._w(t)
+        wn, we, wd = np.moveaxis(w, -1, 0)
+        wn1, we1, wd1 = np.moveaxis(w1, -1, 0)
+        wn2, we2, _ = np.moveaxis(w2, -1, 0)
+        h2 = wn * wn + we * we
+        h = np.sqrt(h2)
+        if np.any(h <= 1e-12 * np.maximum(np.linalg.norm(w, axis=-1), 1e-300)):
+            k = int(np.argmin(h / np.maximum(np.linalg.norm(w, axis=-1), 1e-300)))
+            raise ImunavError(f"orientation \"follow\": the horizontal velocity vanishes near "
+                              f"t = {np.ravel(t)[k]:.6g} s (heading undefined); use "
+                              "orientation = \"given\"")
+        cross = wn * we1 - we * wn1
+        yaw = np.arctan2(we, wn)
+        dyaw = cross / h2
+        dot_h = wn * wn1 + we * we1
+        ddyaw = (wn * we2 - we * wn2) / h2 - 2 * cross * dot_h / (h2 * h2)
+        pitch = np.arctan2(-wd, h)
+        wn_2 = h2 + wd * wd
+        dh = dot_h / h
+        dpitch = (-wd1 * h + wd * dh) / wn_2
+        # speed V = s·|w|, V̇ = s'·|w| + s·(w·w')/|w|
+        wabs = np.sqrt(wn_2)
+        V = s * wabs
+        dV = s1 * wabs + s * (wn * wn1 + we * we1 + wd * wd1) / wabs
+        u = V * dyaw / self.g
+        roll = np.arctan(u)
+        droll = (dV * dyaw + V * ddyaw) / self.g / (1 + u * u)
+        return (np.stack([yaw, pitch, roll], -1), np.stack([dyaw, dpitch, droll], -1))
+
+    def _check_heading(self, per_piece: int = 64) -> None:
+        x = self.breakpoints
+        grid = np.concatenate([np.linspace(a, b, per_piece, endpoint=False)
+                               for a, b in zip(x[:-1], x[1:], strict=True)] + [[x[-1]]])
+        self._follow(grid)
+
+    def __repr__(self) -> str:
+        return (f"WaypointMotion({self.breakpoints.size} waypoints over {self.duration:g} s, "
+                f"orientation={self.orientation!r})")
+
+
+def _reexpand(coef: FloatArray, shift: FloatArray) -> FloatArray:
+    """Coefficients of ``Σ a_j (τ + shift)^j`` in powers of τ (lowest first); ``coef``
+    (deg+1, n, 3), ``shift`` (n,)."""
+    from math import comb
+
+    deg = coef.shape[0] - 1
+    out = np.zeros_like(coef)
+    for j in range(deg + 1):
+        for i in range(j + 1):
+            out[i] += comb(j, i) * coef[j] * (shift ** (j - i))[:, None]
+    return out
