@@ -1,12 +1,14 @@
 # imunav — the two commands that do everything on a fresh clone:
-#   make reproduce   regenerate every paper reproduction and figure into figures/
+#   make reproduce   regenerate every paper reproduction and figure into figures/, and re-execute
+#                    every notebook with its figures (make notebooks)
 #   make test        lint, unit tests, and every notebook under strict nbval
+#   make test-browser  the notebooks in JupyterLab and the book, in headless Chromium
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: all install reproduce test lint unit nbval lab bench clean
+.PHONY: all install install-book install-browser reproduce test lint unit nbval notebooks book test-browser lab bench clean
 
 all: test
 
@@ -21,6 +23,7 @@ install: $(STAMP)
 
 reproduce: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/imunav reproduce --out figures
+	$(MAKE) notebooks
 
 lint: $(STAMP)
 	$(BIN)/ruff check imunav tests notebooks benchmarks
@@ -28,8 +31,24 @@ lint: $(STAMP)
 unit: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python -m pytest -q tests
 
+# The stored notebooks re-run under nbval with the inline backend (figures drawn, not compared).
 nbval: $(STAMP)
-	MPLBACKEND=Agg $(BIN)/python -m pytest -q --nbval --nbval-current-env notebooks
+	env -u MPLBACKEND $(BIN)/python -m pytest -q --nbval --nbval-current-env notebooks
+
+# Sync every notebooks/src/*.py into its paired notebooks/*.ipynb (jupytext) and re-execute it
+# in place with the inline backend, so outputs and figures are stored.
+notebooks: $(STAMP)
+	for f in notebooks/src/*.py; do \
+	  $(BIN)/jupytext --quiet --update --to ipynb -o notebooks/$$(basename $$f .py).ipynb $$f || exit 1; \
+	done
+	for nb in notebooks/[0-9]*.ipynb; do \
+	  for try in 1 2; do \
+	    env -u MPLBACKEND $(BIN)/jupyter nbconvert --to notebook --execute --inplace \
+	      --ExecutePreprocessor.timeout=300 $$nb && break; \
+	    echo "$$nb: execution failed or timed out (try $$try)"; \
+	    test $$try = 2 && exit 1; \
+	  done; \
+	done
 
 test: lint unit nbval
 
@@ -37,6 +56,36 @@ test: lint unit nbval
 bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet -e ".[bench]"
 	$(BIN)/python benchmarks/bench.py
+
+# The rendered book: stored notebooks (not re-executed) + landing page + API reference → build/book/
+BOOK_STAMP := $(VENV)/.installed-book
+$(BOOK_STAMP): $(STAMP) pyproject.toml
+	$(BIN)/python -m pip install --quiet -e ".[dev,book]"
+	touch $(BOOK_STAMP)
+install-book: $(BOOK_STAMP)
+
+book: $(BOOK_STAMP)
+	rm -rf build/book-src build/book
+	mkdir -p build/book-src
+	cp docs/* build/book-src/
+	cp notebooks/[0-9]*.ipynb build/book-src/
+	$(BIN)/sphinx-build -W --keep-going -q -b html build/book-src build/book
+	@echo "book: build/book/index.html"
+
+# Browser tests: every notebook Run-All'd in JupyterLab (widgets dragged, figures must change),
+# every book page checked (console errors, images, math). Needs the Debian chromium package.
+CHROMIUM ?= /usr/lib/chromium/chromium
+BROWSER_STAMP := $(VENV)/.installed-browser
+$(BROWSER_STAMP): $(STAMP) pyproject.toml
+	$(BIN)/python -m pip install --quiet -e ".[dev,browser]"
+	touch $(BROWSER_STAMP)
+install-browser: $(BROWSER_STAMP)
+
+test-browser: $(BROWSER_STAMP) book
+	test -x $(CHROMIUM) || { SUDO=$$(test "$$(id -u)" = 0 || echo sudo); \
+	  DEBIAN_FRONTEND=noninteractive $$SUDO apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq chromium; }
+	env -u MPLBACKEND CHROMIUM=$(CHROMIUM) $(BIN)/python tests/browser/run.py
 
 lab: $(STAMP)
 	$(BIN)/jupyter lab notebooks

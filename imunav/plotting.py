@@ -13,6 +13,24 @@ from imunav.analysis.montecarlo import MonteCarloResult
 from imunav.analysis.roundtrip import RoundTrip, round_trip
 from imunav.motion.base import BaseMotion
 
+#: Up to 20 colours no two alike: matplotlib's ten, then ten more of clearly other hues.
+DISTINCT = ("C0", "C1", "C2", "C3", "C4", "C5", "C6", "C7", "C8", "C9", "black", "gold",
+            "lime", "navy", "magenta", "teal", "salmon", "olive", "maroon", "slateblue")
+
+
+def series_style(i: int) -> dict:
+    """Colour and marker for the ``i``-th point series of one axes (colours unique up to 20
+    series, then the marker shape changes). For dense curves use only ``["color"]``."""
+    return {"color": DISTINCT[i % len(DISTINCT)],
+            "marker": ("o", "s", "^", "D")[(i // len(DISTINCT)) % 4]}
+
+
+def rate_ticks(ax, rates) -> None:
+    """Label a log x axis at the sample rates themselves (no overlapping minor labels)."""
+    ax.set_xticks(list(rates), [f"{r:g}" for r in rates])
+    ax.minorticks_off()
+
+
 # ------------------------------------------------------------ round trips
 
 def plot_run(res: RoundTrip, fig=None):
@@ -51,22 +69,24 @@ def plot_error_vs_rate(rows: list[dict], rates=(50, 100, 200, 400), fig=None):
     """Log–log maximum position and attitude error vs rate for every algorithm."""
     import matplotlib.pyplot as plt
 
-    fig = fig or plt.figure(figsize=(11, 4))
+    fig = fig or plt.figure(figsize=(13, 4.6))
     axp = fig.add_subplot(1, 2, 1)
     axa = fig.add_subplot(1, 2, 2)
-    for row in rows:
+    for i, row in enumerate(rows):
         lab = f"{row['kind']}/{row['algorithm']}"
         ls = "-" if row["kind"] == "increments" else "--"
         op = "—" if row["order_pos"] is None else f"{row['order_pos']:.1f}"
         oa = "—" if row["order_att"] is None else f"{row['order_att']:.1f}"
-        axp.loglog(rates, [row[f"pos_{r}"] for r in rates], ls, marker="o",
-                   label=f"{lab} (order {op})")
-        axa.loglog(rates, [np.degrees(row[f"att_{r}"]) for r in rates], ls, marker="o",
-                   label=f"{lab} (order {oa})")
+        st = series_style(i)
+        axp.loglog(rates, [row[f"pos_{r}"] for r in rates], ls, ms=4, **st)
+        axa.loglog(rates, [np.degrees(row[f"att_{r}"]) for r in rates], ls, ms=4, **st,
+                   label=f"{lab} (order {op} / {oa})")
     axp.set(xlabel="sample rate (Hz)", ylabel="max position error (m)")
     axa.set(xlabel="sample rate (Hz)", ylabel="max attitude error (deg)")
-    axp.legend(fontsize=7)
-    axa.legend(fontsize=7)
+    for ax in (axp, axa):
+        rate_ticks(ax, rates)
+    axa.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0),
+               title="signals/algorithm (order pos / att)", title_fontsize=7)
     fig.tight_layout()
     return fig
 
@@ -78,14 +98,14 @@ def plot_error_vs_time(motion: BaseMotion, rate: float, names, duration: float |
     """Attitude error (deg, log scale) vs time for ``names`` = [(kind, algorithm), …]."""
     import matplotlib.pyplot as plt
 
-    ax = ax or plt.figure(figsize=(8, 4)).add_subplot()
-    for kind, name in names:
+    ax = ax or plt.figure(figsize=(10, 4)).add_subplot()
+    for i, (kind, name) in enumerate(names):
         e = round_trip(motion, rate, kind, name, duration).errors
         ax.semilogy(e.t[1:], np.maximum(np.degrees(e.attitude[1:]), 1e-16),
-                    label=f"{kind}/{name}")
+                    color=series_style(i)["color"], label=f"{kind}/{name}")
     ax.set(xlabel="t (s)", ylabel="attitude error (deg)",
            title=f"{getattr(motion, 'name', 'motion')} at {rate:g} Hz")
-    ax.legend(fontsize=7, ncol=2)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     return ax
 
 
@@ -99,13 +119,14 @@ def plot_convergence(rows: list[dict], ax=None, key: str = "max_att_rad"):
         e = np.asarray(r[key])
         if key == "max_att_rad":
             e = np.degrees(e)
-        line, = ax.loglog(rates, e, "o-", color=f"C{i % 10}",
+        line, = ax.loglog(rates, e, "-", ms=4, **series_style(i),
                           label=f"{r['kind']}/{r['algorithm']} ({r['order_att']:.1f})")
         p = r["documented"][0]
         ax.loglog(rates, e[0] * (rates / rates[0]) ** (-p), ":", color=line.get_color(), lw=1)
     ax.set(xlabel="sample rate (Hz)", ylabel="max attitude error (deg)",
            title="convergence (dotted: documented order)")
-    ax.legend(fontsize=7)
+    rate_ticks(ax, sorted({float(x) for r in rows for x in r["rates"]}))
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     return ax
 
 
@@ -124,7 +145,7 @@ def plot_envelope(mc: MonteCarloResult, tolerance: float | None = None, ax=None,
     if tolerance:
         ax.axhline(tolerance, color="k", ls="--", lw=1, label="tolerance")
     ax.set(xlabel="t (s)", ylabel="position error (m)", title=f"{mc.runs} runs at {mc.rate:g} Hz")
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     return ax
 
 
@@ -196,3 +217,26 @@ def plot_allan(fits: dict, fig=None):
     fig.axes[-1].legend(fontsize=7, loc="center left", bbox_to_anchor=(1.02, 0.5))
     fig.tight_layout()
     return fig
+
+
+# ------------------------------------------------------------ animations
+
+#: matplotlib's player buttons use Font Awesome from a CDN; these characters need nothing.
+_PLAYER_ICONS = {"fa fa-minus": "−", "fa fa-fast-backward": "⏮", "fa fa-step-backward": "◀︎|",
+                 "fa fa-play fa-flip-horizontal": "◀︎", "fa fa-pause": "⏸", "fa fa-play": "▶︎",
+                 "fa fa-step-forward": "|▶︎", "fa fa-fast-forward": "⏭", "fa fa-plus": "+"}
+
+
+def offline_jshtml(anim) -> str:
+    """``anim.to_jshtml()`` without the Font Awesome stylesheet matplotlib links from a CDN
+    (which an offline reader, or the book, cannot load): the player's icons become plain
+    characters. Show it with ``IPython.display.HTML``."""
+    import re
+
+    html = anim.to_jshtml()
+    html = re.sub(r'<link rel="stylesheet"\s+href="https?://[^"]*font-awesome[^"]*">', "", html)
+    for cls, char in _PLAYER_ICONS.items():
+        html = html.replace(f'<i class="{cls}"></i>', char)
+    if "http://" in html or "https://" in html:
+        raise RuntimeError("the animation HTML still links an online resource")
+    return html

@@ -350,11 +350,17 @@ def plot_frames(rec: BlastRecording, res: BlastResult, times=(0.0, 0.25, 0.5, 1.
         ax.plot(*path.T, "k:", lw=1)
         draw_object(ax, res.q[k], res.p[k])
         ax.set(xlim=(-4, 1), ylim=(-2.5, 2.5), zlim=(-3, 1), title=f"t = {rec.t[k]:.2f} s")
-        ax.set_xticklabels([])
-        ax.set_yticklabels([])
-        ax.set_zticklabels([])
+        label_ned_axes(ax)
     fig.tight_layout()
     return fig
+
+
+def label_ned_axes(ax):
+    """Label a 3-D axes drawn with plot height = −z (NED: x north, y east, z down)."""
+    ax.set_xlabel("north x (m)", fontsize=7, labelpad=-6)
+    ax.set_ylabel("east y (m)", fontsize=7, labelpad=-6)
+    ax.set_zlabel("up −z (m)", fontsize=7, labelpad=-6)
+    ax.tick_params(labelsize=6, pad=-2)
 
 
 def animation(rec: BlastRecording, res: BlastResult, frames: int = 40):
@@ -371,6 +377,7 @@ def animation(rec: BlastRecording, res: BlastResult, frames: int = 40):
         k = idx[i]
         draw_object(ax, res.q[k], res.p[k])
         ax.set(xlim=(-4, 1), ylim=(-2.5, 2.5), zlim=(-3, 1), title=f"t = {rec.t[k]:.2f} s")
+        label_ned_axes(ax)
 
     anim = FuncAnimation(fig, draw, frames=frames, interval=100)
     plt.close(fig)

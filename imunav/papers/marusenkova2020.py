@@ -465,13 +465,15 @@ def plot_error_vs_rate(curves: dict, rates=(25, 50, 100, 200, 400, 800, 1600, 32
     import matplotlib.pyplot as plt
 
     if ax is None:
-        f, ax = plt.subplots(figsize=(7, 4.5))
+        f, ax = plt.subplots(figsize=(9, 4.5))
     for (a, b), e in curves.items():
         ax.loglog(rates, np.maximum(e, 1e-16), "o-", label=f"A={a}, B={b}")
     ax.loglog(rates, 1.08 * 100 / np.asarray(rates, float), "k:", lw=1, label="∝ 1/rate")
     ax.set(xlabel="sample rate (Hz)", ylabel="max position discrepancy (m)",
            title="Fig. 1a trajectory: no threshold frequency")
-    ax.legend(fontsize=8)
+    ax.set_xticks(list(rates), [f"{r:g}" for r in rates])
+    ax.minorticks_off()
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     return ax.figure
 
 

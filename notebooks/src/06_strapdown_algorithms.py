@@ -113,8 +113,7 @@ for r in conv_inc + conv_rates:
           f"measured {r['order_att']:.1f}")
 
 # %%
-# NBVAL_IGNORE_OUTPUT
-fig, axs = plt.subplots(1, 2, figsize=(13, 5))
+fig, axs = plt.subplots(1, 2, figsize=(15, 5))
 plotting.plot_convergence(conv_inc, axs[0])
 axs[0].set_title("increments, 30° spinning cone")
 plotting.plot_convergence(conv_rates, axs[1])
@@ -142,8 +141,7 @@ for make in B.BENCHMARKS.values():
                   f"vel {F.fmt_err(r['max_vel'])} m/s  pos {F.fmt_err(r['max_pos'])} m")
 
 # %%
-# NBVAL_IGNORE_OUTPUT
-fig, axs = plt.subplots(1, 2, figsize=(13, 4))
+fig, axs = plt.subplots(1, 2, figsize=(15, 4))
 names = [("rates", "exact_exponential"), ("rates", "magnus6"), ("increments", "exact_exponential"),
          ("increments", "coning2"), ("increments", "ignagni4"), ("increments", "poly8_m6")]
 plotting.plot_error_vs_time(cone, 100.0, names, ax=axs[0])
@@ -153,25 +151,35 @@ plt.show()
 
 # %% [markdown]
 # ## 7. Explore
-# Cone half-angle and frequency, sample rate, algorithms.
+# Cone half-angle and frequency, sample rate, two algorithms. The figure below is the starting
+# state; in a live kernel the widget under it redraws when a control is released.
 
 # %%
-# NBVAL_IGNORE_OUTPUT
 choices = [f"{k}/{n}" for k, t in imunav.ALGORITHMS.items() for n in t]
 
 
-@interact(half_angle=FloatSlider(value=5, min=0.5, max=45, step=0.5, continuous_update=False,
-                                 description="β (deg)"),
-          freq=FloatSlider(value=2, min=0.1, max=10, step=0.1, continuous_update=False,
-                           description="f (Hz)"),
-          rate=FloatLogSlider(value=100, base=10, min=1.3, max=3, continuous_update=False,
-                              description="rate (Hz)"),
-          a=Dropdown(options=choices, value="increments/coning2"),
-          b=Dropdown(options=choices, value="increments/poly8_m6"))
-def explore(half_angle, freq, rate, a, b):
+def explore(half_angle=5.0, freq=2.0, rate=100.0, a="increments/coning2",
+            b="increments/poly8_m6"):
     m = B.coning(half_angle, freq, duration=20.0)
-    plotting.plot_error_vs_time(m, rate, [tuple(a.split("/")), tuple(b.split("/"))])
+    ax = plotting.plot_error_vs_time(m, rate, [tuple(a.split("/")), tuple(b.split("/"))])
+    ax.set_title(f"coning β = {half_angle:g}°, {freq:g} Hz, sampled at {rate:.3g} Hz")
+    plt.tight_layout()
     plt.show()
+
+
+explore()
+
+# %%
+# NBVAL_IGNORE_OUTPUT
+_ = interact(explore,
+             half_angle=FloatSlider(value=5, min=0.5, max=45, step=0.5, continuous_update=False,
+                                    description="β (deg)"),
+             freq=FloatSlider(value=2, min=0.1, max=10, step=0.1, continuous_update=False,
+                              description="f (Hz)"),
+             rate=FloatLogSlider(value=100, base=10, min=1.3, max=3, continuous_update=False,
+                                 description="rate (Hz)"),
+             a=Dropdown(options=choices, value="increments/coning2", description="algorithm A"),
+             b=Dropdown(options=choices, value="increments/poly8_m6", description="algorithm B"))
 
 # %% [markdown]
 # ## CI hook

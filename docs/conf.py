@@ -1,0 +1,74 @@
+"""Sphinx configuration of the imunav book (``make book``).
+
+The pages are the stored notebooks (never re-executed: ``nb_execution_mode = "off"``), a
+landing page and an API reference generated from the numpydoc docstrings. ``make book`` copies
+``docs/`` and ``notebooks/*.ipynb`` into ``build/book-src`` and builds it with ``-W``, so a
+missing figure or a broken cross-reference fails the build. Nothing is loaded from the
+internet: MathJax is bundled (sphinx-mathjax-offline) and the ipywidgets CDN script is off.
+"""
+
+import os
+import sys
+
+sys.path.insert(0, os.path.abspath("../.."))   # build/book-src → repository root
+
+project = "imunav"
+author = "imunav developers"
+copyright = "2026, imunav developers (BSD-3-Clause)"
+
+extensions = [
+    "myst_nb",
+    "sphinx.ext.autodoc",
+    "numpydoc",
+    "sphinx.ext.mathjax",
+    "sphinx-mathjax-offline",
+]
+
+# Notebooks: shown as stored (outputs and figures committed by `make notebooks`).
+nb_execution_mode = "off"
+nb_ipywidgets_js = {}                 # no CDN script: the widgets' first state is a stored figure
+nb_merge_streams = True
+myst_enable_extensions = ["dollarmath", "amsmath"]
+myst_heading_anchors = 3
+nb_mime_priority_overrides = [
+    ("html", "application/vnd.jupyter.widget-view+json", None),   # no kernel in a book
+    ("html", "application/vnd.jupyter.widget-state+json", None),
+]
+
+# API reference
+autodoc_member_order = "bysource"
+autodoc_typehints = "none"
+numpydoc_show_class_members = False
+numpydoc_validation_checks = set()
+numpydoc_xref_param_type = False
+
+exclude_patterns = ["_build", "**.ipynb_checkpoints"]
+suppress_warnings = ["mystnb.unknown_mime_type"]
+
+html_theme = "pydata_sphinx_theme"
+html_title = "imunav"
+html_favicon = "favicon.svg"   # browsers ask for one; without it a 404 in the console
+html_theme_options = {
+    "navigation_with_keys": False,
+    "show_toc_level": 2,
+    "footer_start": ["copyright"],
+}
+html_static_path = []
+html_context = {"default_mode": "light"}   # the theme logs a console error without one
+
+# The docstrings write norms as |x| (plain text for help() readers); reStructuredText would read
+# |x| as a substitution. Escape bars outside inline literals before numpydoc parses them.
+import re  # noqa: E402
+
+_LITERAL = re.compile(r"(``.*?``|`[^`]*`)")
+
+
+def _escape_bars(app, what, name, obj, options, lines):
+    for i, line in enumerate(lines):
+        if "|" in line:
+            parts = _LITERAL.split(line)
+            lines[i] = "".join(p if j % 2 else p.replace("|", r"\|") for j, p in enumerate(parts))
+
+
+def setup(app):
+    app.connect("autodoc-process-docstring", _escape_bars, priority=100)
