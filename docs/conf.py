@@ -51,6 +51,7 @@ html_favicon = "favicon.svg"   # browsers ask for one; without it a 404 in the c
 html_theme_options = {
     "navigation_with_keys": False,
     "show_toc_level": 2,
+    "header_links_before_dropdown": 4,
     "footer_start": ["copyright"],
 }
 html_static_path = []

@@ -221,10 +221,11 @@ def plot_allan(fits: dict, fig=None):
 
 # ------------------------------------------------------------ animations
 
-#: matplotlib's player buttons use Font Awesome from a CDN; these characters need nothing.
-_PLAYER_ICONS = {"fa fa-minus": "−", "fa fa-fast-backward": "⏮", "fa fa-step-backward": "◀︎|",
-                 "fa fa-play fa-flip-horizontal": "◀︎", "fa fa-pause": "⏸", "fa fa-play": "▶︎",
-                 "fa fa-step-forward": "|▶︎", "fa fa-fast-forward": "⏭", "fa fa-plus": "+"}
+#: matplotlib's player buttons use Font Awesome from a CDN; these characters need no font
+#: beyond the common ones (media symbols such as ⏸ are missing from many).
+_PLAYER_ICONS = {"fa fa-minus": "−", "fa fa-fast-backward": "◀◀", "fa fa-step-backward": "◀|",
+                 "fa fa-play fa-flip-horizontal": "◀", "fa fa-pause": "||", "fa fa-play": "▶",
+                 "fa fa-step-forward": "|▶", "fa fa-fast-forward": "▶▶", "fa fa-plus": "+"}
 
 
 def offline_jshtml(anim) -> str:

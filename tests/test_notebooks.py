@@ -41,3 +41,22 @@ def test_stored_outputs_and_figures(src):
         figure_cell = "plt.show()" in c.source and "interact" not in c.source
         images = [o for o in c.outputs if any(k.startswith("image/") for k in o.get("data", {}))]
         assert images or not figure_cell, f"figure cell stored without its figure:\n{c.source[:200]}"
+
+
+@pytest.mark.parametrize("src", SOURCES, ids=[p.stem for p in SOURCES])
+def test_markdown_tables_keep_their_columns(src):
+    """A '|' inside a table cell (a norm |x|) splits the row: the coverage tables would show
+    values under the wrong heading. Every row must have as many cells as its header."""
+    import re
+
+    for cell in jupytext.read(src).cells:
+        if cell.cell_type != "markdown":
+            continue
+        ncol = None
+        for line in cell.source.splitlines():
+            if not line.startswith("|"):
+                ncol = None
+                continue
+            n = len(re.findall(r"(?<!\\)\|", line))
+            ncol = n if ncol is None else ncol
+            assert n == ncol, f"{src.name}: row has {n - 1} cells, header {ncol - 1}: {line[:80]}"

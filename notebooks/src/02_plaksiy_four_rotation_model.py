@@ -12,12 +12,12 @@
 #
 # | the paper | here | paper | imunav | verdict |
 # |---|---|---|---|---|
-# | eq. (3), Λ of four successive turns | §1–2 | — | λ₂ as printed is wrong (|Λ| ≠ 1, up to 0.55 off); corrected: Λ = q₃(φ)∘q₂(ψ)∘q₁(ϑ)∘q₂(χ) | differs (typo) |
+# | eq. (3), Λ of four successive turns | §1–2 | — | λ₂ as printed is wrong (‖Λ‖ ≠ 1, up to 0.55 off); corrected: Λ = q₃(φ)∘q₂(ψ)∘q₁(ϑ)∘q₂(χ) | differs (typo) |
 # | eq. (5), ω from (3) | §3 | — | derived from the corrected (3) identically (SymPy) | reproduced |
 # | eqs. (6)–(7): "(5) leads to the analytical representations for the quasi-coordinates" | §4 | — | closed form by SymPy for linear laws; equals quadrature to 2e-12 rad over 1000 s | reproduced |
 # | Fig. 1: quasi-coordinates, k = (0.15, 1.55, 0.35, −1.55) | §4 | (plot) | drawn | no paper value |
 # | Fig. 2: configuration-space trajectories | §4 | (plot) | drawn | no paper value |
-# | "more generalized case … in comparison with the regular precession" | §5 | — | regular precession is the special case φ = Ωt, ψ₀, ϑ₀, χ = ω_s t (5e-16 rad vs an independent construction); the Fig. 1 motion is not one (|ω| 0.20–3.14 rad/s) | reproduced |
+# | "more generalized case … in comparison with the regular precession" | §5 | — | regular precession is the special case φ = Ωt, ψ₀, ϑ₀, χ = ω_s t (5e-16 rad vs an independent construction); the Fig. 1 motion is not one (‖ω‖ 0.20–3.14 rad/s) | reproduced |
 # | "can be used to model … vibrations … considering χ = −ψ" | §5 | — | with the Fig. 1 laws the body turns steadily at −1.55 rad/s about axis 2 (1554 rad in 1000 s) | differs |
 # | Table 1: drift at 1000 s, 33/57, 36/54, 0/90 | §6 | 1.616, 1.601, 1.433 e−3 | 1.629, 1.645, 1.459 e−3 (fourth-order series update) | reproduced (each within 3 %) |
 # | Table 1 / Fig. 3 b: "the optimized algorithm results in a smaller drift error" (36/54 below 33/57) | §6 | 0.991 | 1.010 | differs |

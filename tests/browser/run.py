@@ -39,6 +39,9 @@ CHROMIUM = os.environ.get("CHROMIUM", "/usr/lib/chromium/chromium")
 RUN_TIMEOUT_S = 600          # one notebook's Run All
 WIDGET_TIMEOUT_S = 120       # one widget change to redraw its figure
 
+SHOTS = Path(tempfile.gettempdir()) / "imunav-browser"     # screenshots of failures
+SHOTS.mkdir(exist_ok=True)
+
 results: list[tuple[str, bool, str]] = []
 
 
@@ -87,24 +90,37 @@ def stored_images(nb: Path) -> int:
 
 # ------------------------------------------------------------------------------ JupyterLab
 
-def _wait_idle(page, timeout: float) -> bool:
-    """Until every code cell has run: no ``[*]`` prompt and the kernel idle, twice in a row."""
+STALL_S = 90                 # kernel idle, cells pending, nothing run for this long: stalled
+
+
+def _wait_idle(page, timeout: float) -> str:
+    """Until every code cell has run (no ``[*]``/``[ ]`` prompt, kernel idle, three polls in a
+    row): ``"done"``; ``"stalled"`` if the kernel sits idle with cells pending for ``STALL_S``
+    (a request the kernel never read, ipykernel#1554); ``"timeout"``."""
     t0 = time.time()
-    calm = 0
+    calm, last_run, last_change = 0, -1, time.time()
     while time.time() - t0 < timeout:
-        busy = page.evaluate("""() => {
+        st = page.evaluate("""() => {
             const prompts = [...document.querySelectorAll('.jp-Notebook .jp-InputPrompt')]
                 .map(p => p.textContent.trim());
             const status = document.querySelector('.jp-Notebook-ExecutionIndicator');
-            const kernelBusy = status ? status.getAttribute('data-status') === 'busy' : false;
-            return prompts.some(p => p.includes('*')) || kernelBusy ||
-                   prompts.filter(p => p === '[ ]:' || p === '[ ]').length > 0;
+            return {busy: status ? status.getAttribute('data-status') === 'busy' : false,
+                    running: prompts.filter(p => p.includes('*')).length,
+                    pending: prompts.filter(p => p === '[ ]:' || p === '[ ]').length,
+                    run: prompts.filter(p => /\\[\\d+\\]/.test(p)).length};
         }""")
-        calm = 0 if busy else calm + 1
-        if calm >= 3:
-            return True
+        if st["run"] != last_run:
+            last_run, last_change = st["run"], time.time()
+        if not (st["busy"] or st["running"] or st["pending"]):
+            calm += 1
+            if calm >= 3:
+                return "done"
+        else:
+            calm = 0
+            if not st["busy"] and time.time() - last_change > STALL_S:
+                return "stalled"
         time.sleep(1.0)
-    return False
+    return "timeout"
 
 
 def _image_srcs(area) -> list[str]:
@@ -169,12 +185,37 @@ def _check_widgets(page, name: str) -> None:
         report(f"lab {name} widget {i + 1}", ok, "; ".join(checked) or "no slider or dropdown")
 
 
+def _shutdown_kernels(page) -> None:
+    """Stop every kernel of the server (each notebook's run is independent; 2 cores)."""
+    try:
+        page.evaluate("""async () => {
+            const x = (document.cookie.match(/_xsrf=([^;]+)/) || [])[1] || '';
+            const h = {'X-XSRFToken': decodeURIComponent(x)};
+            const ks = await (await fetch('/api/kernels', {headers: h})).json();
+            for (const k of ks) await fetch('/api/kernels/' + k.id, {method: 'DELETE', headers: h});
+        }""")
+    except Exception:   # noqa: BLE001 — the server stops them at the end anyway
+        pass
+
+
 def run_lab(browser, only: str | None) -> None:
     work = Path(tempfile.mkdtemp(prefix="imunav-lab-"))
-    for nb in NOTEBOOKS:
-        shutil.copy(nb, work / nb.name)
+    for nb in NOTEBOOKS:   # copies without outputs: every figure counted is drawn by this run
+        data = json.loads(nb.read_text())
+        for c in data["cells"]:
+            if c["cell_type"] == "code":
+                c["outputs"], c["execution_count"] = [], None
+        data["metadata"].pop("widgets", None)
+        (work / nb.name).write_text(json.dumps(data))
+    settings = work / ".lab-settings"
+    for ext, name, value in (("notebook-extension", "tracker", {"windowingMode": "none"}),
+                             ("apputils-extension", "notification", {"fetchNews": "false"})):
+        f = settings / f"@jupyterlab/{ext}/{name}.jupyterlab-settings"
+        f.parent.mkdir(parents=True, exist_ok=True)
+        f.write_text(json.dumps(value))
     port = free_port()
     env = {k: v for k, v in os.environ.items() if k != "MPLBACKEND"}   # inline figures
+    env["JUPYTERLAB_SETTINGS_DIR"] = str(settings)   # every cell in the DOM, no news pop-up
     lab = start([sys.executable, "-m", "jupyterlab", "--no-browser", "--allow-root",
                  f"--port={port}", "--ip=127.0.0.1", "--IdentityProvider.token=",
                  "--ServerApp.password=", f"--ServerApp.root_dir={work}",
@@ -190,14 +231,28 @@ def run_lab(browser, only: str | None) -> None:
             page = context.new_page()
             t0 = time.time()
             try:
-                page.goto(f"http://127.0.0.1:{port}/lab/tree/{nb.name}", timeout=120_000)
+                # ?reset: a fresh workspace, not the tabs of the previous notebook
+                page.goto(f"http://127.0.0.1:{port}/lab/tree/{nb.name}?reset", timeout=120_000)
                 page.wait_for_selector(".jp-Notebook .jp-Cell", timeout=120_000)
+                # JupyterLab may ask which kernel to start: the notebook's own (Python 3)
+                try:
+                    page.locator(".jp-Dialog-button.jp-mod-accept").click(timeout=8_000)
+                except Exception:   # noqa: BLE001 — no dialog: the kernel started by itself
+                    pass
                 # the kernel must be up before Run All
                 page.wait_for_selector(".jp-Notebook-ExecutionIndicator[data-status='idle']",
                                        timeout=120_000)
                 page.locator(".lm-MenuBar-itemLabel", has_text="Run").first.click()
-                page.locator(".lm-Menu-item[data-command='notebook:run-all-cells']").click()
-                finished = _wait_idle(page, RUN_TIMEOUT_S)
+                page.get_by_role("menuitem", name="Run All Cells", exact=True).click()
+                state = _wait_idle(page, RUN_TIMEOUT_S)
+                retried = state == "stalled"
+                if retried:   # once: restart the kernel and run everything again from the start
+                    page.locator(".lm-MenuBar-itemLabel", has_text="Run").first.click()
+                    page.get_by_role("menuitem", name="Restart Kernel and Run All Cells…").click()
+                    page.locator(".jp-Dialog-button.jp-mod-accept").click()
+                    time.sleep(5.0)
+                    state = _wait_idle(page, RUN_TIMEOUT_S)
+                finished = state == "done"
                 page.keyboard.press("Control+s")
                 time.sleep(2.0)
                 saved = json.loads((work / nb.name).read_text())
@@ -213,14 +268,20 @@ def run_lab(browser, only: str | None) -> None:
                           f"{len(errors)} error outputs, {unrun} cells not run")
                 if errors:
                     detail += f" (first: {errors[0]['ename']}: {errors[0]['evalue'][:120]})"
+                if retried:
+                    detail += "; the kernel stalled idle with cells pending once: restarted and re-run"
                 if not finished:
-                    detail += f"; still running after {RUN_TIMEOUT_S} s"
+                    detail += f"; {state} after the {'second' if retried else 'first'} Run All"
                 report(f"lab {name} run-all", ok, detail)
                 if ok:
                     _check_widgets(page, name)
             except Exception as exc:   # noqa: BLE001 — report and go on with the next notebook
-                report(f"lab {name}", False, f"{type(exc).__name__}: {str(exc).splitlines()[0]}")
+                shot = SHOTS / f"lab_{name}.png"
+                page.screenshot(path=shot)
+                report(f"lab {name}", False,
+                       f"{type(exc).__name__}: {str(exc).splitlines()[0]} (screenshot {shot})")
             finally:
+                _shutdown_kernels(page)
                 context.close()
     finally:
         stop(lab)
