@@ -49,33 +49,45 @@ def read_header(path: Path, what: str) -> tuple[str, ...]:
     return tuple(h.strip() for h in text.rstrip("\r\n").split(","))
 
 
-def _locate(path: Path, header: Sequence[str], bad_row: int | None = None) -> str:
-    """Error path only: rescan ``path`` to say where the first problem is (line and column),
-    or where data row ``bad_row`` (0-based, blank lines skipped) is."""
-    row = -1
+def _checked_rows(path: Path, header: Sequence[str]) -> Iterator[tuple[int, np.ndarray]]:
+    """``(line number, values)`` of each data row of ``path`` (after the header line; blank
+    lines skipped), read line by line; the first undecodable line, wrong column count,
+    non-number or NaN/inf raises :class:`ImunavError` naming its line and column."""
     with path.open("rb") as fh:
         fh.readline()
         for line_no, raw in enumerate(fh, start=2):
             try:
                 text = raw.decode("utf-8")
             except UnicodeDecodeError as exc:
-                return f"{path}, line {line_no}: not UTF-8 text (byte {exc.start})"
+                raise ImunavError(f"{path}, line {line_no}: not UTF-8 text (byte {exc.start})"
+                                  ) from None
             if not text.strip():
                 continue
-            row += 1
             cells = next(csv.reader([text]))
             if len(cells) != len(header):
-                return (f"{path}, line {line_no}: expected {len(header)} columns "
-                        f"({','.join(header)}), got {len(cells)}")
-            for name, c in zip(header, cells, strict=True):
+                raise ImunavError(f"{path}, line {line_no}: expected {len(header)} columns "
+                                  f"({','.join(header)}), got {len(cells)}")
+            row = np.empty(len(header))
+            for j, (name, c) in enumerate(zip(header, cells, strict=True)):
                 try:
-                    v = float(c)
+                    row[j] = float(c)
                 except ValueError:
-                    return f"{path}, line {line_no}, column '{name}': {c.strip()!r} is not a number"
-                if not np.isfinite(v):
-                    return f"{path}, line {line_no}, column '{name}': NaN or inf"
-            if bad_row is not None and row == bad_row:
+                    raise ImunavError(f"{path}, line {line_no}, column '{name}': {c.strip()!r} "
+                                      "is not a number") from None
+                if not np.isfinite(row[j]):
+                    raise ImunavError(f"{path}, line {line_no}, column '{name}': NaN or inf")
+            yield line_no, row
+
+
+def _locate(path: Path, header: Sequence[str], bad_row: int | None = None) -> str:
+    """Error path only: rescan ``path`` to say where the first problem is (line and column),
+    or where data row ``bad_row`` (0-based, blank lines skipped) is."""
+    try:
+        for row, (line_no, _) in enumerate(_checked_rows(path, header)):
+            if row == bad_row:
                 return f"{path}, line {line_no}: bad value"
+    except ImunavError as exc:
+        return str(exc)
     return f"{path}: unreadable CSV"
 
 
@@ -124,31 +136,8 @@ def read_chunks(path: str | Path, header: Sequence[str], what: str,
 def first_row(path: str | Path, header: Sequence[str], what: str) -> np.ndarray | None:
     """The first data row of ``path`` (after the header line), or None if there is none; the
     rest of the file is not read."""
-    path = Path(path)
-    with path.open("rb") as fh:
-        fh.readline()
-        for line_no, raw in enumerate(fh, start=2):
-            try:
-                text = raw.decode("utf-8")
-            except UnicodeDecodeError as exc:
-                raise ImunavError(f"{path}, line {line_no}: not UTF-8 text (byte {exc.start})"
-                                  ) from None
-            if not text.strip():
-                continue
-            cells = next(csv.reader([text]))
-            if len(cells) != len(header):
-                raise ImunavError(f"{path}, line {line_no}: expected {len(header)} columns "
-                                  f"({','.join(header)}), got {len(cells)}")
-            row = np.empty(len(header))
-            for j, (name, c) in enumerate(zip(header, cells, strict=True)):
-                try:
-                    row[j] = float(c)
-                except ValueError:
-                    raise ImunavError(f"{path}, line {line_no}, column '{name}': {c.strip()!r} "
-                                      "is not a number") from None
-                if not np.isfinite(row[j]):
-                    raise ImunavError(f"{path}, line {line_no}, column '{name}': NaN or inf")
-            return row
+    for _, row in _checked_rows(Path(path), header):
+        return row
     return None
 
 
