@@ -212,3 +212,108 @@ def test_cli_allan_errors(tmp_path, capsys):
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and fragment in err[0], err
     assert rates.read_bytes() == before
+
+
+def test_design_numbers_are_the_covariance_of_the_requested_run():
+    """Every number of ``design`` is the covariance model's for the motion, duration and signal
+    kind asked for (rates here, 5 s of a 20 s motion), term by term and preset by preset."""
+    from imunav.analysis.assessment import min_sample_rate
+
+    motion = Motion(x="0.5*sin(0.8*t)", yaw="0.3*sin(0.5*t)", duration=20.0, name="wiggle")
+    base = ImuModel(TriadModel(noise_density=2e-4, resolution=1e-3),
+                    TriadModel(bias=1e-3, resolution=2e-3), "base")
+    tol, rate, dur = 0.05, 20.0, 5.0
+    r = design(motion, base, rate, tol, duration=dur, output="rates")
+    cov = covariance(motion, base, rate, dur, output="rates")
+    assert cov.t[-1] == pytest.approx(5.0)
+    inc = covariance(motion, base, rate, dur, output="increments")
+    assert set(r["terms"]) == set(cov.terms)
+    for term, row in r["terms"].items():
+        worst = cov.max_position_quantile(0.95, term=term)
+        triad, name = term.split(".")
+        assert row["max_p95_position_m"] == pytest.approx(worst, rel=1e-12)
+        assert row["limit_si"] == pytest.approx(getattr(getattr(base, triad), name) * tol / worst,
+                                                rel=1e-12)
+    # resolution: white on rates, bounded on increments: the signal kind matters
+    assert (inc.max_position_quantile(0.95, term="gyro.resolution")
+            < 0.5 * r["terms"]["gyro.resolution"]["max_p95_position_m"])
+    # the base values in datasheet units, by hand: 1e-3 m/s² = 0.10197 mg; 2e-4 rad/√s =
+    # 2e-4·(180/π)·60 deg/√h = 0.6875 deg/√h
+    assert r["terms"]["accel.bias"]["base"] == "0.102 mg"
+    assert r["terms"]["gyro.noise_density"]["base"] == "0.688 deg/sqrt(h)"
+    assert r["common_scale"] == pytest.approx(tol / cov.max_position_quantile(0.95), rel=1e-12)
+    assert r["min_rate_hz"] == min_sample_rate(motion, tol, dur, "rates")
+    assert (r["motion"], r["imu"], r["rate_hz"], r["tolerance_m"]) == ("wiggle", "base", 20.0, tol)
+    assert r["warnings"] == cov.warnings
+    for p in r["presets"][:3]:
+        pc = covariance(motion, ImuModel.load(p["name"]), rate, dur, output="rates")
+        assert p["final_p95_position_m"] == pytest.approx(
+            float(pc.position_quantile(0.95, index=-1)), rel=1e-12)
+        assert p["suitable"] == (pc.min_position_within(tol) >= 0.95)
+        assert p["warnings"] == pc.warnings
+
+
+def test_design_of_an_ideal_imu_and_a_bad_tolerance():
+    from imunav import ImunavError
+
+    r = design(Motion(duration=2.0, name="still"), ImuModel(TriadModel(), TriadModel(), "ideal"),
+               10.0, 1.0)
+    assert r["terms"] == {} and r["common_scale"] is None
+    # the "ideal" preset has no error term: zero error, suitable; it ranks first
+    assert r["presets"][0] == {"name": "ideal", "final_p95_position_m": 0.0, "suitable": True,
+                               "warnings": []}
+    assert all(p["final_p95_position_m"] > 0 for p in r["presets"][1:])
+    with pytest.raises(ImunavError, match="^tolerance must be"):
+        design(STILL, ImuModel.load("BMI088"), 10.0, -1.0)
+
+
+def test_format_design_hand_written():
+    """The text of ``imunav design`` for a hand-made result, written out by hand: both branches
+    of every sentence (meets / must shrink, a rate / none, suitable / not, a warning note)."""
+    from imunav.analysis.design import format_design
+
+    r = {"motion": "walk", "imu": "cheap", "rate_hz": 100.0, "tolerance_m": 2.5,
+         "terms": {"gyro.bias": {"limit": "3.1 deg/h", "base": "10 deg/h"},
+                   "accel.bias": {"limit": "0.5 mg", "base": "2 mg"}},
+         "common_scale": 0.25, "min_rate_hz": 50.0,
+         "presets": [{"name": "tactical", "final_p95_position_m": 0.0123, "suitable": True,
+                      "warnings": []},
+                     {"name": "MPU-6050", "final_p95_position_m": 1234.5, "suitable": False,
+                      "warnings": ["attitude error 0.3 rad"]}],
+         "warnings": ["filter lag 3 m"]}
+    assert format_design(r).split("\n") == [
+        "Design for motion walk at 100 Hz, tolerance 2.5 m (95th percentile of the position "
+        "error, whole motion), from IMU cheap:",
+        "  Largest value of each term that alone stays within the tolerance:",
+        "    accel.bias                               0.5 mg   (this IMU: 2 mg)",
+        "    gyro.bias                             3.1 deg/h   (this IMU: 10 deg/h)",
+        "  All terms together: within the tolerance up to 0.25 × this IMU's values (its errors "
+        "must shrink 4-fold).",
+        "  Minimum sample rate (sampling alone below a tenth of the tolerance): 50 Hz.",
+        "  Presets, best first (final 95th-percentile position error):",
+        "    tactical   SUITABLE         0.0123 m",
+        "    MPU-6050   NOT SUITABLE   1.23e+03 m (outside the linear model: check with Monte "
+        "Carlo)",
+        "  Warning: filter lag 3 m.",
+    ]
+    r.update(common_scale=1.0, min_rate_hz=None, terms={}, warnings=[])
+    lines = format_design(r).split("\n")
+    assert lines[2:4] == [
+        "  All terms together: within the tolerance up to 1 × this IMU's values (it already "
+        "meets it).",
+        "  Minimum sample rate (sampling alone below a tenth of the tolerance): none up to 5 kHz."]
+    r.update(common_scale=None)
+    assert format_design(r).split("\n")[2] == "  All terms together: no error term"
+
+
+def test_design_skips_a_term_that_cannot_move_the_position():
+    # free fall (z = g t²/2, NED down): the specific force is zero, so neither g-sensitivity
+    # nor a tilt (gyro noise) moves the position: no limit for them; the accelerometer term
+    # after them is still designed
+    fall = Motion(z=f"{G0 / 2!r}*t**2", duration=2.0, name="fall")
+    base = ImuModel(TriadModel(g_sensitivity=1e-4, noise_density=1e-4),
+                    TriadModel(bias=1e-3), "base")
+    r = design(fall, base, 20.0, 1.0)
+    assert set(covariance(fall, base, 20.0).terms) == {
+        "gyro.g_sensitivity", "gyro.noise_density", "accel.bias"}
+    assert set(r["terms"]) == {"accel.bias"}

@@ -8,6 +8,7 @@ p/100·(n−1)), never by the code under test.
 import numpy as np
 import pytest
 
+from imunav import ImunavError
 from imunav.analysis import assessment as A
 from imunav.analysis.montecarlo import MonteCarloResult
 from imunav.motion import Motion
@@ -104,3 +105,119 @@ def test_assess_is_the_verdict_of_its_monte_carlo(monkeypatch):
     budget = {t: monte_carlo(m, model.only(t), 20.0, runs=6, seed=4, progress=False)
               for t in model.terms()}
     assert got == A.verdict(mc, 0.5, budget, 10.0, motion="m", imu="BMI088", seed=4)
+
+
+def test_verdict_record_in_full():
+    """Every key of the record ``imunav assess --json`` writes, with the thinned envelope: 401
+    output times become the 201 even ones; each point the 95th percentile over runs (by numpy
+    here, from the hand-built ramps)."""
+    n = 401
+    pos = [[(r + 1) * k / (n - 1) for k in range(n)] for r in range(20)]
+    mc = _mc(pos, rate=2.0)
+    r = A.verdict(mc, 30.0, {}, None)
+    assert r == {**r, "motion": "motion", "imu": "imu", "seed": 0, "rate_hz": 2.0,
+                 "tolerance_m": 30.0, "runs": 20, "method": "montecarlo", "warnings": [],
+                 "min_rate_hz": None, "saturated_runs": 0, "error_budget": {},
+                 "time_p95_exceeds_s": None, "suitable": True, "fraction_within_tolerance": 1.0}
+    assert set(r) == {"motion", "imu", "rate_hz", "tolerance_m", "runs", "seed",
+                      "fraction_within_tolerance", "suitable", "time_p95_exceeds_s",
+                      "final_p95_position_m", "error_budget", "min_rate_hz", "saturated_runs",
+                      "method", "warnings", "envelope"}
+    env = r["envelope"]
+    assert set(env) == {"t", "position_p95_m", "attitude_p95_rad"}
+    k = np.arange(0, n, 2)
+    np.testing.assert_allclose(env["t"], k / 2.0, rtol=0, atol=0)
+    np.testing.assert_allclose(env["position_p95_m"], 19.05 * k / (n - 1), rtol=1e-12)
+    np.testing.assert_allclose(env["attitude_p95_rad"], 0.1905 * k / (n - 1), rtol=1e-12)
+    r = A.verdict(mc, 30.0, {}, 50.0, motion="walk", imu="cheap", seed=7)
+    assert (r["motion"], r["imu"], r["seed"], r["min_rate_hz"]) == ("walk", "cheap", 7, 50.0)
+    with pytest.raises(ImunavError, match="^tolerance must be"):
+        A.verdict(mc, 0.0, {}, None)
+
+
+def test_crossing_means_strictly_above_the_tolerance():
+    # at t = 2 s the envelope equals the tolerance: not yet exceeded; at t = 3 s it is
+    at2 = float(np.percentile([(r + 1) * 2 / 4 for r in range(20)], 95))
+    assert A.verdict(_mc(RAMP), at2, {}, None)["time_p95_exceeds_s"] == 3.0
+
+
+def _record(**kw):
+    r = {"motion": "walk", "imu": "cheap", "rate_hz": 100.0, "tolerance_m": 2.5, "runs": 500,
+         "seed": 3, "fraction_within_tolerance": 0.962, "suitable": True,
+         "time_p95_exceeds_s": None, "final_p95_position_m": 1.234,
+         "error_budget": {"accel.bias": 1.1, "gyro.noise_density": 0.25, "accel.resolution": 1e-12},
+         "min_rate_hz": 50.0, "saturated_runs": 0, "method": "montecarlo", "warnings": []}
+    r.update(kw)
+    return r
+
+
+def test_format_verdict_hand_written():
+    assert A.format_verdict(_record()).split("\n") == [
+        "IMU cheap on motion walk at 100 Hz, 500 runs (seed 3), tolerance 2.5 m:",
+        "  SUITABLE: 96.2 % of runs stay within 2.5 m over the whole motion (needed: 95 %).",
+        "  The 95th percentile of the position error never exceeds the tolerance (final 1.23 m).",
+        "  Dominant error: accel.bias (1.1 m alone, 95th pct).",
+        "  Error budget (each term alone, final 95th-percentile position error):",
+        "    accel.bias                          1.1 m",
+        "    gyro.noise_density                 0.25 m",
+        "    accel.resolution                 < 1e-9 m",
+        "  Sampling alone stays below 0.1 × the tolerance from 50 Hz.",
+    ]
+    text = A.format_verdict(_record(
+        fraction_within_tolerance=0.5, suitable=False, time_p95_exceeds_s=12.345,
+        error_budget={}, min_rate_hz=None, saturated_runs=4, warnings=["filter lag 3 m"]))
+    assert text.split("\n")[1:] == [
+        "  NOT SUITABLE: 50.0 % of runs stay within 2.5 m over the whole motion (needed: 95 %).",
+        "  The 95th percentile crosses 2.5 m at t = 12.35 s (final 1.23 m).",
+        "  Sampling alone stays below 0.1 × the tolerance from no tested rate (≤ 5 kHz).",
+        "  Warning: 4 runs hit the sensor range (clipped).",
+        "  Warning: filter lag 3 m.",
+    ]
+    # without a "suitable" key the fraction decides (95 % needed)
+    r = _record(fraction_within_tolerance=0.949)
+    del r["suitable"]
+    assert A.format_verdict(r).split("\n")[1].startswith("  NOT SUITABLE: 94.9 %")
+
+
+def test_format_verdict_covariance_hand_written():
+    r = _record(method="covariance", runs=None, seed=None, fraction_within_tolerance=0.97)
+    assert A.format_verdict(r).split("\n")[:2] == [
+        "IMU cheap on motion walk at 100 Hz, covariance analysis, tolerance 2.5 m:",
+        "  SUITABLE: P(position error ≤ 2.5 m) is at least 97.0 % at every time (needed: 95 %).",
+    ]
+    r = _record(method="covariance", runs=None, seed=None, fraction_within_tolerance=0.4,
+                suitable=False)
+    assert A.format_verdict(r).split("\n")[1] == (
+        "  NOT SUITABLE: P(position error ≤ 2.5 m) drops to 40.0 % (needed: 95 % at every time).")
+
+
+def test_assess_passes_every_setting_through(monkeypatch):
+    """What ``assess`` asks of the Monte Carlo and of the rate search: the duration, signal kind,
+    seed, scheduler and progress of the call (recorded, then run for real without the
+    scheduler), the budget run count min(runs, 200), and the motion's name."""
+    from imunav import ImuModel
+    from imunav.analysis.montecarlo import monte_carlo
+    from imunav.sensors.models import TriadModel
+
+    calls, rates = [], []
+
+    def recording_mc(motion, model, rate, duration, runs, seed, output, *, scheduler, progress):
+        calls.append((model.name, duration, runs, seed, output, scheduler, progress))
+        return monte_carlo(motion, model, rate, duration, runs, seed, output, progress=False)
+
+    monkeypatch.setattr(A, "monte_carlo", recording_mc)
+    monkeypatch.setattr(A, "min_sample_rate", lambda *a: rates.append(a) or 40.0)
+    m = Motion(x="t", yaw="0.1*sin(t)", duration=5.0, name="m")
+    model = ImuModel(TriadModel(noise_density=1e-3), TriadModel(bias=1e-2), "two")
+    got = A.assess(m, model, 20.0, 201, 0.5, duration=0.5, output="rates", scheduler="tcp://x:1")
+    assert calls[0] == ("two", 0.5, 201, 0, "rates", "tcp://x:1", True)
+    assert len(calls) == 1 + len(model.terms())
+    assert all(c[1:] == (0.5, 200, 0, "rates", "tcp://x:1", False) for c in calls[1:])
+    assert rates == [(m, 0.5, 0.5, "rates")]
+    assert (got["motion"], got["imu"], got["seed"], got["runs"]) == ("m", "two", 0, 201)
+    calls.clear()
+    A.assess(m, model, 20.0, 3, 0.5, seed=9, duration=0.5, budget_runs=2, progress=False)
+    assert calls[0][1:] == (0.5, 3, 9, "increments", None, False)
+    assert calls[1][2] == 2
+    with pytest.raises(ImunavError, match="^tolerance must be"):
+        A.assess(m, model, 20.0, 3, -0.5)

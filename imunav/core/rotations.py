@@ -71,12 +71,13 @@ def _conj(q: FloatArray) -> FloatArray:
     return q * _CONJ
 
 
-def quat_normalize(q: npt.ArrayLike) -> FloatArray:
-    """Scale ``q`` to unit norm; a zero quaternion is an error."""
-    q = as_float_array(q, "q", last=4)
+def quat_normalize(q: npt.ArrayLike, name: str = "q") -> FloatArray:
+    """Scale ``q`` to unit norm; a zero quaternion is an error (``name`` is the argument the
+    error message names)."""
+    q = as_float_array(q, name, last=4)
     n = np.linalg.norm(q, axis=-1, keepdims=True)
     if np.any(n == 0):
-        raise ImunavError("q must have non-zero norm to be normalised, got a zero quaternion")
+        raise ImunavError(f"{name} must have non-zero norm to be normalised, got a zero quaternion")
     return q / n
 
 
@@ -262,9 +263,7 @@ def quat_angle(p: npt.ArrayLike, q: npt.ArrayLike) -> FloatArray:
     ``2 atan2(|vec|, |w|)`` so that angles far below 1e-8 rad are resolved (an
     ``arccos``-based angle floors near 1e-8 rad).
     """
-    p = quat_normalize(p)
-    q = quat_normalize(q)
-    return _angle(p, q)
+    return _angle(quat_normalize(p, "p"), quat_normalize(q, "q"))
 
 
 def _angle(p: FloatArray, q: FloatArray) -> FloatArray:

@@ -244,7 +244,7 @@ def _collect(nav: StreamNavigator, gyro, accel, q0, v0, p0) -> tuple[FloatArray,
     q = np.empty((n_nodes,) + np.shape(q0))
     v = np.empty((n_nodes,) + np.shape(v0))
     p = np.empty_like(v)
-    q[0], v[0], p[0] = quat_normalize(q0), v0, p0
+    q[0], v[0], p[0] = quat_normalize(q0, "q0"), v0, p0
     k = 1
 
     def store(parts):
@@ -286,7 +286,7 @@ def navigate(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike = (0.0, 0
     """
     if not isinstance(signals, ImuSignals):
         raise ImunavError(f"signals must be ImuSignals, got {type(signals).__name__}")
-    q0 = quat_normalize(as_float_array(q0, "q0", ndim=1, last=4))
+    q0 = quat_normalize(as_float_array(q0, "q0", ndim=1, last=4), "q0")
     v0 = as_float_array(v0, "v0", ndim=1, last=3)
     p0 = as_float_array(p0, "p0", ndim=1, last=3)
     g = signals.g if g is None else check_gravity(g)
@@ -314,7 +314,7 @@ def navigate_batch(kind: str, gyro: FloatArray, accel: FloatArray, rate: float,
     if gyro.shape[0] < algo.min_samples:
         raise ImunavError(f"{kind} signals need at least {algo.min_samples} samples")
     R = gyro.shape[1]
-    q0 = np.ascontiguousarray(np.broadcast_to(quat_normalize(as_float_array(q0, "q0", last=4)),
+    q0 = np.ascontiguousarray(np.broadcast_to(quat_normalize(as_float_array(q0, "q0", last=4), "q0"),
                                               (R, 4)))
     v0 = np.ascontiguousarray(np.broadcast_to(as_float_array(v0, "v0", last=3), (R, 3)))
     p0 = np.ascontiguousarray(np.broadcast_to(as_float_array(p0, "p0", last=3), (R, 3)))

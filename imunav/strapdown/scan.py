@@ -214,7 +214,7 @@ def cumulative_product(q0: npt.ArrayLike, dq: npt.ArrayLike, normalize: bool = T
     """
     q0, dq, single = _check_chain(q0, dq, "dq", 4)
     if normalize:
-        q0 = quat_normalize(q0)
+        q0 = quat_normalize(q0, "q0")
     out = _quat_scan(q0, dq.shape[0], lambda lo, hi, L: _quat_blocked(dq[lo:hi], L), normalize)
     return out[:, 0] if single else out
 
@@ -225,6 +225,6 @@ def exp_product(q0: npt.ArrayLike, phi: npt.ArrayLike) -> FloatArray:
     (N, R, 3). The same as ``cumulative_product(q0, quat_exp(phi))`` with the exponential
     computed chunk by chunk inside the scan (one pass less over memory)."""
     q0, phi, single = _check_chain(q0, phi, "phi", 3)
-    q0 = quat_normalize(q0)
+    q0 = quat_normalize(q0, "q0")
     out = _quat_scan(q0, phi.shape[0], lambda lo, hi, L: _exp_blocked(phi[lo:hi], L), True)
     return out[:, 0] if single else out
