@@ -109,6 +109,10 @@ def test_resolution_rates_white_increments_bounded():
     # on ±q·h/2 per axis (variance (qh)²/12) at every time, however long the motion
     r = _cov(_model("gyro", resolution=q), rate=rate, output="increments")
     np.testing.assert_allclose(_diag(r.total[1:, 0:3, 0:3]), (q / rate) ** 2 / 12, rtol=1e-12)
+    # every term starts from the known initial state; the constant tilt then drives a
+    # horizontal position error that grows at every step (g·φ·t²/2)
+    assert np.all(r.total[0] == 0)
+    assert np.all(np.diff(_diag(r.total[:, 6:8, 6:8]), axis=0) > 0)
 
 
 # ----------------------------------------------------------------------------- the norm
@@ -297,3 +301,41 @@ def test_filter_lag_is_measured_and_warned():
     assert any("without noise" in w for w in r["warnings"])
     r = assess_covariance(STILL, lagging, 20.0, 1.0)
     assert r["deterministic_position_m"] < 1e-9 and not r["warnings"]
+
+
+def test_max_position_quantile_when_the_worst_time_is_a_line():
+    """The worst time has a one-dimensional (line) covariance, another an isotropic one: the
+    quantiles are 1.96·2 = 3.92 (|N(0, 4)|, scipy's half-normal) against 2.795 (χ₃): the line
+    wins, although its middle eigenvalue is zero (a pruning bound built on the wrong eigenvalue
+    would drop it)."""
+    from imunav.analysis.covariance import CovarianceResult
+
+    P = np.zeros((3, 9, 9))
+    P[1, 6:9, 6:9] = np.eye(3)
+    P[2, 6:9, 6:9] = np.diag([0.0, 4.0, 0.0])
+    r = CovarianceResult(np.arange(3.0), {"x": P}, P, 1.0, "hand", 0.0, 0.0, [])
+    want = 2 * stats.halfnorm.ppf(0.95)
+    assert r.max_position_quantile(0.95) == pytest.approx(want, rel=1e-9)
+    assert r.max_position_quantile(0.95, term="x") == pytest.approx(want, rel=1e-9)
+    assert r.max_position_quantile(0.5) == pytest.approx(
+        max(2 * stats.halfnorm.ppf(0.5), stats.chi(3).ppf(0.5)), rel=1e-9)
+
+
+def test_chi3_cdf_against_scipy():
+    from imunav.analysis.gaussnorm import chi3_cdf
+
+    s = np.array([0.0, 0.3, 1.0, 1.5, stats.chi(3).ppf(0.95), 4.0, 7.0])
+    np.testing.assert_allclose(chi3_cdf(s), stats.chi(3).cdf(s), rtol=1e-13, atol=1e-16)
+    np.testing.assert_allclose(chi3_cdf([1, 2]), stats.chi(3).cdf([1.0, 2.0]), rtol=1e-13)
+    assert chi3_cdf(np.inf) == 1.0 and chi3_cdf(np.array([np.inf, 0.0])).tolist() == [1.0, 0.0]
+
+
+def test_norm_cdf_batches_and_non_positive_radius():
+    P = np.stack([np.eye(3), np.diag([4.0, 1.0, 0.25])])
+    got = norm_cdf(P, 1.5)                                   # one radius for the batch
+    assert got.shape == (2,)
+    assert got[0] == pytest.approx(stats.chi(3).cdf(1.5), rel=1e-9)
+    np.testing.assert_array_equal(norm_cdf(P, 0.0), [0.0, 0.0])
+    np.testing.assert_array_equal(norm_cdf(P, -1.0), [0.0, 0.0])
+    np.testing.assert_allclose(norm_cdf(P, [1, 2]), [stats.chi(3).cdf(1.0), norm_cdf(P[1], 2.0)],
+                               rtol=1e-12)

@@ -221,3 +221,99 @@ def test_assess_passes_every_setting_through(monkeypatch):
     assert calls[1][2] == 2
     with pytest.raises(ImunavError, match="^tolerance must be"):
         A.assess(m, model, 20.0, 3, -0.5)
+
+
+def _cov_result(sigma_p, sigma_a, t, terms_share, warnings=()):
+    """A covariance result with isotropic position and attitude blocks σ²·I (per time)."""
+    from imunav.analysis.covariance import CovarianceResult
+
+    def blocks(sp, sa):
+        P = np.zeros((t.size, 9, 9))
+        P[:, 0:3, 0:3] = np.eye(3) * (sa ** 2)[:, None, None]
+        P[:, 6:9, 6:9] = np.eye(3) * (sp ** 2)[:, None, None]
+        return P
+
+    terms = {k: blocks(np.sqrt(s) * sigma_p, np.sqrt(s) * sigma_a) for k, s in terms_share.items()}
+    return CovarianceResult(t, terms, blocks(sigma_p, sigma_a), 2.0, "hand", 1.0, 9.8,
+                            list(warnings))
+
+
+def test_verdict_covariance_record_in_full():
+    """The covariance verdict on hand-built isotropic covariances: the norm of an isotropic
+    3-D Gaussian is σ·χ₃, so every percentile and probability below comes from scipy's χ
+    distribution, not from imunav's norm quantiles."""
+    from scipy import stats
+
+    chi3 = stats.chi(3)
+    t = np.arange(11) * 0.5
+    sp, sa = 0.1 + t, 0.01 * t
+    # shares chosen so that value order (big first) differs from name order
+    cov = _cov_result(sp, sa, t, {"a.small": 0.36, "b.big": 0.64}, warnings=["w1"])
+    c95 = chi3.ppf(0.95)
+    tol = c95 * (sp[4] + sp[5]) / 2          # the 95th percentile passes it between t = 2, 2.5
+    r = A.verdict_covariance(cov, tol, 25.0)
+    assert r["time_p95_exceeds_s"] == 2.5
+    assert r["fraction_within_tolerance"] == pytest.approx(chi3.cdf(tol / sp[-1]), rel=1e-9)
+    assert r["suitable"] is False
+    assert r["final_p95_position_m"] == pytest.approx(c95 * sp[-1], rel=1e-9)
+    assert list(r["error_budget"]) == ["b.big", "a.small"]
+    assert r["error_budget"]["b.big"] == pytest.approx(0.8 * c95 * sp[-1], rel=1e-9)
+    assert r["error_budget"]["a.small"] == pytest.approx(0.6 * c95 * sp[-1], rel=1e-9)
+    assert {k: r[k] for k in ("motion", "imu", "rate_hz", "tolerance_m", "method", "runs", "seed",
+                              "min_rate_hz", "saturated_runs", "warnings")} == {
+        "motion": "motion", "imu": "imu", "rate_hz": 2.0, "tolerance_m": tol,
+        "method": "covariance", "runs": None, "seed": None, "min_rate_hz": 25.0,
+        "saturated_runs": 0, "warnings": ["w1"]}
+    assert set(r) == set(A.verdict(_mc(RAMP), 1.0, {}, None))      # the same keys as Monte Carlo
+    env = r["envelope"]
+    np.testing.assert_array_equal(env["t"], t)
+    np.testing.assert_allclose(env["position_p95_m"], c95 * sp, rtol=1e-9)
+    np.testing.assert_allclose(env["attitude_p95_rad"], c95 * sa, rtol=1e-9, atol=1e-15)
+    # within the tolerance everywhere: suitable, never crossed; names passed through
+    r = A.verdict_covariance(cov, 10 * c95 * sp[-1], None, motion="walk", imu="cheap")
+    assert r["suitable"] is True and r["time_p95_exceeds_s"] is None
+    assert (r["motion"], r["imu"]) == ("walk", "cheap")
+    with pytest.raises(ImunavError, match="^tolerance must be"):
+        A.verdict_covariance(cov, -1.0, None)
+
+
+def test_deterministic_error_runs_only_filter_and_range(monkeypatch):
+    """One noise-free run of the filter and range alone, for the duration and signals asked."""
+    from imunav import ImuModel
+    from imunav.analysis.montecarlo import monte_carlo
+    from imunav.sensors.models import TriadModel
+
+    seen = []
+
+    def recording_mc(motion, model, rate, duration, *, runs, output, progress):
+        seen.append((model, duration, runs, output, progress))
+        return monte_carlo(motion, model, rate, duration, runs=runs, output=output, progress=False)
+
+    monkeypatch.setattr(A, "monte_carlo", recording_mc)
+    m = Motion(x="0.5*sin(3*t)", yaw="0.4*sin(2*t)", duration=4.0, name="m")
+    model = ImuModel(TriadModel(noise_density=1e-3, bias=1e-3, range=0.5, bandwidth=5.0,
+                                internal_rate=400.0),
+                     TriadModel(noise_density=1e-3, range=30.0, bandwidth=8.0,
+                                internal_rate=400.0), "cheap")
+    out = A.deterministic_error(m, model, 50.0, 2.0, "rates")
+    (det, duration, runs, output, progress), = seen
+    assert (duration, runs, output, progress) == (2.0, 1, "rates", False)
+    assert det.name == "cheap:deterministic"
+    assert det.gyro == TriadModel(range=0.5, bandwidth=5.0, internal_rate=400.0)
+    assert det.accel == TriadModel(range=30.0, bandwidth=8.0, internal_rate=400.0)
+    assert out[0] > 0 and out[1] > 0
+    seen.clear()
+    A.deterministic_error(m, model, 50.0)
+    assert seen[0][1:4] == (None, 1, "increments")
+    assert A.deterministic_error(m, ImuModel(TriadModel(bias=1.0), TriadModel(), "b"), 50.0) is None
+
+
+def test_monte_carlo_envelope_is_over_runs_at_each_time():
+    # 20 runs × 5 times: the percentiles go across runs (axis 0), one value per time
+    mc = _mc(RAMP)
+    env = mc.envelope()
+    assert sorted(env) == [50, 68, 95]
+    np.testing.assert_allclose(env[95], [19.05 * k / 4 for k in range(5)], rtol=1e-12)
+    np.testing.assert_allclose(env[50], [10.5 * k / 4 for k in range(5)], rtol=1e-12)
+    att = mc.envelope("attitude", q=(95,))
+    np.testing.assert_allclose(att[95], [0.1905 * k / 4 for k in range(5)], rtol=1e-12)
