@@ -6,7 +6,9 @@
 
 What is mutated and which tests run is configured in ``[tool.mutmut]`` of pyproject.toml
 (imunav/core and imunav/analysis; the whole unit suite, mutmut choosing per mutant the tests
-that reach the mutated function; tests/conftest.py runs them fastest first).
+that reach the mutated function; tests/conftest.py runs them fastest first). Two passes: the
+first leaves out the tests that took over ``--cap`` seconds (default 1), the second runs the
+survivors of the first against every test.
 
 Score = killed / (all mutants − equivalent ones). A mutant counts as killed when a test fails,
 errors or times out; it survives when every test passes or no test reaches it. Every survivor
@@ -119,14 +121,27 @@ def diffs(text: str) -> int:
     return 0
 
 
-def run(jobs: int) -> int:
+def run(jobs: int, cap: float) -> int:
+    """Pass 1: every mutant, tests that took ≤ ``cap`` s. Pass 2: the survivors, every test."""
     os.chdir(ROOT)
-    env = dict(os.environ, MPLBACKEND="Agg")
+    env = dict(os.environ, MPLBACKEND="Agg", IMUNAV_MUTATION_TEST_CAP=str(cap))
+    mutmut = [sys.executable, "-m", "mutmut", "run", "--max-children", str(jobs)]
     t0 = time.perf_counter()
-    cmd = [sys.executable, "-m", "mutmut", "run", "--max-children", str(jobs)]
-    rc = subprocess.call(cmd, env=env)
-    print(f"\nmutmut run: exit {rc} in {time.perf_counter() - t0:.0f} s")
-    return report() or rc
+    rc = subprocess.call(mutmut, env=env)
+    t1 = time.perf_counter()
+    print(f"\npass 1 (tests ≤ {cap:g} s): exit {rc} in {t1 - t0:.0f} s")
+    if rc:
+        return rc
+    again = sorted(k for k, s in _results().items() if s not in KILLED)
+    if again:
+        print(f"pass 2: {len(again)} survivors of pass 1 against every test")
+        env.pop("IMUNAV_MUTATION_TEST_CAP")
+        rc = subprocess.call(mutmut + again, env=env)
+        print(f"\npass 2: exit {rc} in {time.perf_counter() - t1:.0f} s")
+        if rc:
+            return rc
+    print(f"mutation run: {time.perf_counter() - t0:.0f} s in all")
+    return report()
 
 
 def main(argv=None) -> int:
@@ -134,12 +149,14 @@ def main(argv=None) -> int:
     sub = p.add_subparsers(dest="cmd", required=True)
     r = sub.add_parser("run")
     r.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    r.add_argument("--cap", type=float, default=1.0,
+                   help="pass 1 leaves out tests that took longer than this (s)")
     sub.add_parser("report")
     d = sub.add_parser("diffs")
     d.add_argument("text", nargs="?", default="")
     a = p.parse_args(argv)
     if a.cmd == "run":
-        return run(a.jobs)
+        return run(a.jobs, a.cap)
     if a.cmd == "report":
         return report()
     return diffs(a.text)

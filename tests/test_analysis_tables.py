@@ -276,3 +276,34 @@ def test_propagate_one_term_is_the_closed_form():
     assert P.shape == (501, 9, 9)
     np.testing.assert_allclose(np.sqrt(np.diagonal(P[1:, 0:3, 0:3], axis1=-2, axis2=-1)),
                                np.stack([b * t[1:]] * 3, -1), rtol=1e-12)
+
+
+def test_nav_errors_against_states_truth_and_hand_values():
+    from imunav.analysis.metrics import nav_errors
+
+    t = np.array([0.0, 1.0])
+    q = np.array([[1.0, 0, 0, 0], [np.cos(0.05), np.sin(0.05), 0, 0]])      # 0.1 rad about x
+    nav = States(t, np.array([[0, 0, 0], [3.0, 4.0, 0]]), np.array([[1.0, 0, 0], [0, 0, 2.0]]),
+                 q)
+    truth = States(t, np.zeros((2, 3)), np.zeros((2, 3)), np.tile([1.0, 0, 0, 0], (2, 1)))
+    e = nav_errors(nav, truth)
+    np.testing.assert_array_equal(e.t, t)
+    np.testing.assert_allclose(e.position, [0.0, 5.0], atol=0)
+    np.testing.assert_allclose(e.velocity, [1.0, 2.0], atol=0)
+    np.testing.assert_allclose(e.attitude, [0.0, 0.1], atol=1e-15)
+
+
+def test_states_shape_checks_name_the_field():
+    t = np.arange(3.0)
+    good = dict(position=np.zeros((3, 3)), velocity=np.zeros((3, 3)),
+                quaternion=np.tile([1.0, 0, 0, 0], (3, 1)))
+    States(t, **good)
+    for name, bad, want in (("position", np.zeros((3, 2)), "(3, 2)"),
+                            ("velocity", np.zeros((2, 3)), "(2, 3)"),
+                            ("quaternion", np.zeros((3, 3)), "(3, 3)")):
+        last = 4 if name == "quaternion" else 3
+        with pytest.raises(ImunavError) as e:
+            States(t, **{**good, name: bad})
+        assert str(e.value) == f"{name} must have shape (3, {last}) to match t, got {want}"
+    with pytest.raises(ImunavError, match=r"^position must have shape \(None, 3\)"):
+        States(0.0, np.zeros(3), np.zeros(3), np.array([1.0, 0, 0, 0]))
