@@ -339,3 +339,37 @@ def test_norm_cdf_batches_and_non_positive_radius():
     np.testing.assert_array_equal(norm_cdf(P, -1.0), [0.0, 0.0])
     np.testing.assert_allclose(norm_cdf(P, [1, 2]), [stats.chi(3).cdf(1.0), norm_cdf(P[1], 2.0)],
                                rtol=1e-12)
+
+
+@pytest.mark.parametrize("d", [0.0, 1e-6, -3e-4, 0.5, -2.0, -40.0])
+def test_phi_functions_against_quadrature(d):
+    """φ_i(d) = ∫_0^h (h−s)^i/i! e^{d s} ds (both the series branch, |d·h| < 1e-3, and the
+    closed form), by scipy quad."""
+    from imunav.analysis.covariance import _phi_functions
+
+    h = 0.02
+    got = _phi_functions(np.array([d]), h)
+    for i, fact in enumerate((1, 1, 2)):
+        want = quad(lambda s, i=i, fact=fact: (h - s) ** i / fact * np.exp(d * s), 0, h,
+                    epsabs=0, epsrel=1e-13)[0]
+        assert got[i][0] == pytest.approx(want, rel=1e-11), i
+
+
+def test_aliasing_gain_cases():
+    from scipy.signal import butter, freqz
+
+    from imunav.analysis.covariance import aliasing_gain
+    from imunav.sensors.models import TriadModel
+
+    plain, filt = TriadModel(noise_density=1e-3), TriadModel(noise_density=1e-3, bandwidth=30.0)
+    assert aliasing_gain(filt, 100.0, 8, "increments") == 1.0     # increments integrate: no fold
+    assert aliasing_gain(filt, 100.0, 1, "rates") == 1.0          # not decimated
+    assert aliasing_gain(plain, 100.0, 8, "rates") == pytest.approx(np.sqrt(8), rel=1e-15)
+    # a filter wider than the internal Nyquist frequency is no filter
+    assert aliasing_gain(TriadModel(bandwidth=500.0), 100.0, 8, "rates") == pytest.approx(
+        np.sqrt(8), rel=1e-15)
+    # the 2nd-order Butterworth at the internal rate 800 Hz: |H|² at 0, 100, …, 700 Hz
+    b, a = butter(2, 30.0, fs=800.0)
+    h2 = np.abs(freqz(b, a, worN=np.arange(8) * 100.0, fs=800.0)[1]) ** 2
+    assert aliasing_gain(filt, 100.0, 8, "rates") == pytest.approx(np.sqrt(h2.sum()), rel=1e-10)
+    assert 1.0 < aliasing_gain(filt, 100.0, 8, "rates") < 1.1

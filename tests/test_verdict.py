@@ -317,3 +317,37 @@ def test_monte_carlo_envelope_is_over_runs_at_each_time():
     np.testing.assert_allclose(env[50], [10.5 * k / 4 for k in range(5)], rtol=1e-12)
     att = mc.envelope("attitude", q=(95,))
     np.testing.assert_allclose(att[95], [0.1905 * k / 4 for k in range(5)], rtol=1e-12)
+
+
+def test_assess_covariance_passes_every_setting_through(monkeypatch):
+    from imunav import ImuModel
+    from imunav.analysis.covariance import covariance
+    from imunav.sensors.models import TriadModel
+
+    seen = {}
+
+    def rec_cov(motion, model, rate, duration, *, output):
+        seen["cov"] = (duration, output)
+        return covariance(motion, model, rate, duration, output=output)
+
+    monkeypatch.setattr(A, "covariance", rec_cov)
+    monkeypatch.setattr(A, "min_sample_rate", lambda *a: seen.setdefault("rate", a) and 40.0)
+    monkeypatch.setattr(A, "deterministic_error",
+                        lambda *a: seen.setdefault("det", a) and (0.05, 0.01))
+    m = Motion(x="t", yaw="0.1*sin(t)", duration=5.0, name="m")
+    model = ImuModel(TriadModel(noise_density=1e-3), TriadModel(bias=1e-2), "two")
+    r = A.assess_covariance(m, model, 20.0, 0.4, duration=2.0, output="rates")
+    assert seen["cov"] == (2.0, "rates")
+    assert seen["rate"] == (m, 0.4, 2.0, "rates")
+    assert seen["det"] == (m, model, 20.0, 2.0, "rates")
+    assert (r["motion"], r["imu"], r["min_rate_hz"]) == ("m", "two", 40.0)
+    assert r["deterministic_position_m"] == 0.05
+    # 0.05 m > a tenth of 0.4 m: warned, with the position (not the attitude) error
+    assert r["warnings"][-1].startswith("the filter and range alone, without noise, give a "
+                                        "0.05 m position error")
+    assert r["warnings"][-1].endswith("Check with --method montecarlo")
+    # exactly a tenth of 0.5 m (0.1 × 0.5 = 0.05 in binary too) is not over it
+    r = A.assess_covariance(m, model, 20.0, 0.5, duration=2.0, output="rates")
+    assert not any("filter and range" in w for w in r["warnings"])
+    with pytest.raises(ImunavError, match="^tolerance must be"):
+        A.assess_covariance(m, model, 20.0, -0.5)
