@@ -30,10 +30,13 @@ CASES = [
     ("gyro.noise_density", "1 deg/h/sqrt(Hz)", D / 3600),
     ("gyro.noise_density", "1 deg/sqrt(h)", D / 60), ("gyro.noise_density", "1 deg/sqrt(hr)", D / 60),
     ("gyro.noise_density", "1 °/√h", D / 60), ("gyro.noise_density", "1 deg/√hr", D / 60),
+    ("gyro.noise_density", "1 deg/sqrth", D / 60), ("gyro.noise_density", "1 deg/sqrthr", D / 60),
+    ("gyro.noise_density", "1 rad/sqrts", 1.0), ("gyro.noise_density", "1 deg/√(h)", D / 60),
     ("gyro.noise_density", "1 deg/rt(h)", D / 60),
     # acceleration noise density / velocity random walk: m/s²/√Hz = m/s/√s
     ("accel.noise_density", "1 m/s^2/sqrt(Hz)", 1.0), ("accel.noise_density", "1 m/s/sqrt(s)", 1.0),
     ("accel.noise_density", "1 ug/sqrt(Hz)", G / 1e6), ("accel.noise_density", "1 µg/√Hz", G / 1e6),
+    ("accel.noise_density", "1 ug/sqrtHz", G / 1e6), ("accel.noise_density", "1 μg/√Hz", G / 1e6),
     ("accel.noise_density", "1 mg/sqrt(Hz)", G / 1e3), ("accel.noise_density", "1 g/sqrt(Hz)", G),
     ("accel.noise_density", "1 m/s/sqrt(h)", 1 / 60), ("accel.noise_density", "1 m/s/sqrt(hr)", 1 / 60),
     ("accel.noise_density", "1 m/s/√h", 1 / 60),

@@ -351,3 +351,25 @@ def test_assess_covariance_passes_every_setting_through(monkeypatch):
     assert not any("filter and range" in w for w in r["warnings"])
     with pytest.raises(ImunavError, match="^tolerance must be"):
         A.assess_covariance(m, model, 20.0, -0.5)
+
+
+def test_sampling_error_and_minimum_rate_for_the_duration_and_signals_asked():
+    from imunav import navigate, simulate_imu
+
+    m = Motion(x="3*sin(2*t)", yaw="0.8*sin(1.5*t)", duration=8.0, name="m")
+    for kind, algo in (("rates", "magnus6"), ("increments", "poly8_m6")):
+        sig = simulate_imu(m, 10.0, 3.0, output=kind)
+        nav = navigate(sig, m.attitude([0.0])[0], m.velocity([0.0])[0], m.position([0.0])[0])
+        assert nav.algorithm == algo and nav.t[-1] == pytest.approx(3.0)
+        want = np.linalg.norm(nav.position - m.position(nav.t), axis=-1).max()
+        assert A.sampling_error(m, 10.0, 3.0, kind) == pytest.approx(want, rel=1e-12)
+    assert A.sampling_error(m, 10.0, 3.0) == A.sampling_error(m, 10.0, 3.0, "increments")
+    # the minimum rate is the first candidate whose sampling error is within a tenth of the
+    # tolerance, for the duration and signals asked; a run needs 10 samples at least
+    tol = 10 * A.sampling_error(m, 20.0, 3.0, "rates")
+    assert A.sampling_error(m, 10.0, 3.0, "rates") > tol / 10
+    assert A.min_sample_rate(m, tol, 3.0, "rates", candidates=(2, 5, 10, 20, 50)) == 20.0
+    assert A.min_sample_rate(m, tol, 3.0, "rates", candidates=(2, 3)) is None   # < 10 samples
+    assert A.min_sample_rate(m, 1e-30, 3.0, "rates", candidates=(20,)) is None
+    # no duration anywhere: no rate can be judged (not an error)
+    assert A.min_sample_rate(Motion(x="t"), 1.0, candidates=(20,)) is None

@@ -89,7 +89,8 @@ def _normalise(unit: str) -> str:
     u = re.sub(r"√\(?([A-Za-z]+)\)?", r"sqrt(\1)", u)
     u = re.sub(r"(?<!sq)rt\(?(Hz|hr|h|s)\)?", r"sqrt(\1)", u)
     u = u.replace("°", "deg").replace("dph", "deg/h").replace("/√", "/sqrt")
-    u = u.replace("sqrtHz", "sqrt(Hz)").replace("sqrth", "sqrt(h)").replace("sqrts", "sqrt(s)")
+    u = u.replace("sqrtHz", "sqrt(Hz)").replace("sqrthr", "sqrt(hr)").replace("sqrth", "sqrt(h)")
+    u = u.replace("sqrts", "sqrt(s)")
     return u
 
 
