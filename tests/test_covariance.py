@@ -90,6 +90,14 @@ def test_random_walk_and_gauss_markov_attitude():
     t = np.arange(att.shape[0]) / 10.0
     want = 2 * s * s * T * T * (t / T - 1 + np.exp(-t / T))
     np.testing.assert_allclose(att[1:], np.stack([want[1:]] * 3, -1), rtol=1e-11)
+    # a correlation time 20× shorter than the step (the bias decorrelates within one step:
+    # the step is cut into sub-steps of at most half a decay time)
+    T = 0.005
+    s = bias_instability_sigma(B, T)
+    att = _diag(_cov(_model("gyro", bias_instability=B, bias_correlation_time=T),
+                     rate=10.0).total[:, 0:3, 0:3])
+    want = 2 * s * s * T * T * (t / T - 1 + np.exp(-t / T))
+    np.testing.assert_allclose(att[1:], np.stack([want[1:]] * 3, -1), rtol=1e-9)
 
 
 def test_scale_factor_on_a_constant_turn():
