@@ -381,3 +381,37 @@ def test_aliasing_gain_cases():
     h2 = np.abs(freqz(b, a, worN=np.arange(8) * 100.0, fs=800.0)[1]) ** 2
     assert aliasing_gain(filt, 100.0, 8, "rates") == pytest.approx(np.sqrt(h2.sum()), rel=1e-10)
     assert 1.0 < aliasing_gain(filt, 100.0, 8, "rates") < 1.1
+
+
+def test_cross_matrix_is_the_cross_product():
+    from imunav.analysis.covariance import _cross_matrix
+
+    v = np.random.default_rng(2).normal(size=(4, 3))
+    u = np.random.default_rng(3).normal(size=(4, 3))
+    np.testing.assert_allclose(np.einsum("nij,nj->ni", _cross_matrix(v), u), np.cross(v, u),
+                               atol=1e-15)
+
+
+def test_other_gravity_and_the_range_warnings():
+    """g = 1.62 m/s² (the Moon): a level, still IMU reads f = −g, so a gyro bias b tilts the
+    solution into a horizontal position error g·b·t³/6; a constant turn of 0.5 rad/s is the peak
+    rate, exactly at a 0.5 rad/s range (no warning) and over a 0.49 rad/s one (warned)."""
+    from imunav.sensors.models import ImuModel, TriadModel
+
+    b, g = 1e-4, 1.62
+    r = covariance(STILL, _model("gyro", bias=b), 100.0, g=g, output="rates")
+    t = r.t[1:]
+    np.testing.assert_allclose(np.sqrt(_diag(r.total[1:, 6:8, 6:8])),
+                               np.stack([g * b * t ** 3 / 6] * 2, -1), rtol=1e-12)
+    assert r.max_force == pytest.approx(g, rel=1e-12) and r.max_rate == 0.0
+    turn = Motion(yaw="0.5*t", duration=4.0, name="turn")
+    at = covariance(turn, ImuModel(TriadModel(bias=b, range=0.5), TriadModel(range=20.0), "r"),
+                    50.0)
+    assert at.max_rate == pytest.approx(0.5, rel=1e-12) and at.warnings == [] and at.model == "r"
+    over = covariance(turn, ImuModel(TriadModel(bias=b, range=0.49), TriadModel(range=9.0), "r"),
+                      50.0)
+    assert over.warnings == [
+        "the motion's angular rate reaches 0.5, beyond the gyro range 0.49 (SI): clipping is not "
+        "in the covariance; use Monte Carlo",
+        "the motion's specific force reaches 9.81, beyond the accel range 9 (SI): clipping is not "
+        "in the covariance; use Monte Carlo"]
