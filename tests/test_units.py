@@ -104,3 +104,33 @@ def test_plain_numbers_are_si_and_bools_are_not_numbers():
     assert units.parse(0.25, "accel.bias") == 0.25
     with pytest.raises(ImunavError, match="must be a number"):
         units.parse(True, "accel.bias")
+
+
+def test_parse_error_messages_in_full():
+    """Each refusal names the key, the value and what was expected (hand-written)."""
+    from imunav.core.units import parse
+
+    def msg(value, key):
+        with pytest.raises(ImunavError) as e:
+            parse(value, key)
+        return str(e.value)
+
+    assert msg(1.0, "gyro.nosie").startswith("unknown error parameter 'gyro.nosie'; known: "
+                                             "gyro.noise_density, gyro.bias, ")
+    assert msg(1.0, "gyro").startswith("unknown error parameter 'gyro'; known: ")
+    assert msg(True, "gyro.bias") == "gyro.bias must be a number or a string with units, got True"
+    assert msg([1], "gyro.bias") == "gyro.bias must be a number or a string with units, got list"
+    assert msg("fast", "gyro.bias") == "gyro.bias = 'fast': expected '<number> <unit>'"
+    assert msg("1 furlong", "gyro.internal_rate") == (
+        "gyro.internal_rate = '1 furlong': unit 'furlong' is not a unit of internal sample rate; "
+        "accepted: Hz, kHz")
+    assert msg(-1.0, "gyro.bias") == "gyro.bias must be a finite non-negative value, got -1"
+    assert msg("-2 deg/s", "gyro.bias") == (
+        "gyro.bias must be a finite non-negative value, got '-2 deg/s'")
+    assert msg(2e6, "gyro.internal_rate") == (
+        "gyro.internal_rate = 2e+06 is outside 1–1e+06 (SI): no inertial sensor samples faster "
+        "than 1 MHz internally")
+    # zero and the limits themselves are accepted; exponents in either case
+    assert parse(0.0, "gyro.bias") == 0.0
+    assert parse(1e6, "gyro.internal_rate") == 1e6 and parse(1.0, "gyro.internal_rate") == 1.0
+    assert parse("2E-3 rad/s", "gyro.bias") == parse("2e-3 rad/s", "gyro.bias") == 2e-3
