@@ -415,3 +415,47 @@ def test_other_gravity_and_the_range_warnings():
         "in the covariance; use Monte Carlo",
         "the motion's specific force reaches 9.81, beyond the accel range 9 (SI): clipping is not "
         "in the covariance; use Monte Carlo"]
+
+
+@pytest.mark.parametrize("lam", [(1.0, 1.0, 1.0), (4.0, 1.0, 0.25), (2.0, 0.5, 0.0),
+                                 (3.0, 0.0, 0.0), (0.0, 0.0, 0.0)])
+def test_norm_density_is_the_derivative_of_the_cdf(lam):
+    """The density that speeds up the quantile's Newton steps is d/dr of the CDF (a central
+    difference of the CDF here; 0 for a zero covariance), and the CDF itself matches scipy
+    where scipy has the distribution (rank 1: a half-normal)."""
+    from imunav.analysis.gaussnorm import _cdf_pdf, _eig
+
+    l1, l2, l3 = _eig(np.diag(lam)[None].repeat(4, 0))
+    r = np.array([0.3, 1.0, 2.0, 3.5])
+    P, D = _cdf_pdf(l1, l2, l3, r, density=True)
+    eps = 1e-5
+    num = (_cdf_pdf(l1, l2, l3, r + eps) - _cdf_pdf(l1, l2, l3, r - eps)) / (2 * eps)
+    np.testing.assert_allclose(D, num, rtol=1e-6, atol=1e-9)
+    if lam[1] == 0 and lam[0] > 0:
+        np.testing.assert_allclose(P, stats.halfnorm(scale=np.sqrt(lam[0])).cdf(r), rtol=1e-12)
+    if lam[0] == 0:
+        np.testing.assert_array_equal(P, 1.0)
+        np.testing.assert_array_equal(D, 0.0)
+
+
+def test_norm_quantile_converges_in_a_few_newton_steps(monkeypatch):
+    """The moment-matched start and the exact density make Newton converge in at most 6 CDF
+    evaluations (measured: 1 for isotropic or line covariances, 3–5 otherwise); the result
+    solves CDF(q) = p to 1e-12 and sits between the bracket's ends."""
+    import imunav.analysis.gaussnorm as G
+
+    calls = []
+    real = G._cdf_pdf
+    monkeypatch.setattr(G, "_cdf_pdf", lambda *a, **k: calls.append(1) or real(*a, **k))
+    cov = np.stack([np.diag(d) for d in ((1.0, 1, 1), (4, 1, 0.25), (2, 0.5, 0), (3, 0, 0),
+                                          (1e-6, 1e-7, 0), (100, 99, 1))])
+    for p in (0.5, 0.95, 0.999):
+        calls.clear()
+        q = G.norm_quantile(cov, p)
+        assert len(calls) <= 6, (p, len(calls))
+        calls.clear()
+        np.testing.assert_allclose(G.norm_cdf(cov, q), p, rtol=0, atol=1e-12)
+        top = np.sqrt(cov[:, 0, 0])
+        assert np.all(q >= top * stats.halfnorm.ppf(p) * (1 - 1e-12))
+        assert np.all(q <= top * stats.chi(3).ppf(p) * (1 + 1e-12))
+    assert G.norm_quantile(np.zeros((3, 3)), 0.95) == 0.0
