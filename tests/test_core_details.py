@@ -142,3 +142,64 @@ def test_factor_normalises_strings_and_lists_the_choices():
     with pytest.raises(ImunavError) as e:
         factor(None, "frequency", "--rate-units")
     assert str(e.value) == "unknown --rate-units None; expected one of Hz, kHz"
+
+
+def test_available_memory_from_meminfo_then_sysconf_then_unknown(monkeypatch):
+    import builtins
+
+    from imunav.core import resources
+
+    with open("/proc/meminfo") as fh:
+        kb = next(int(line.split()[1]) for line in fh if line.startswith("MemAvailable:"))
+    assert resources.available_memory() == pytest.approx(kb * 1024, rel=0.05)
+    real_open = builtins.open
+
+    def no_proc(path, *a, **k):
+        if str(path) == "/proc/meminfo":
+            raise OSError("no /proc")
+        return real_open(path, *a, **k)
+
+    monkeypatch.setattr(builtins, "open", no_proc)
+    want = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    assert resources.available_memory() == pytest.approx(want, rel=0.05)
+
+    def no_sysconf(name):
+        raise ValueError(name)
+
+    monkeypatch.setattr(os, "sysconf", no_sysconf)
+    assert resources.available_memory() == 1 << 62
+
+
+def test_check_memory_refuses_with_sizes(monkeypatch):
+    from imunav.core import resources
+
+    monkeypatch.setattr(resources, "available_memory", lambda: 10_000_000_000)
+    limit = resources.MEMORY_FRACTION * 10_000_000_000
+    resources.check_memory(limit, "a run")                   # exactly at the limit: allowed
+    with pytest.raises(ImunavError) as e:
+        resources.check_memory(limit * 1.01, "a run")
+    assert str(e.value) == (f"a run would need about {human(limit * 1.01)} of memory; "
+                            "10 GB is available")
+    with pytest.raises(ImunavError, match=r"is available; use fewer runs$"):
+        resources.check_memory(2e10, "a run", "use fewer runs")
+
+
+def test_check_disk_refuses_what_does_not_fit(monkeypatch, tmp_path):
+    import shutil
+    from collections import namedtuple
+
+    from imunav.core import resources
+
+    usage = namedtuple("usage", "total used free")
+    monkeypatch.setattr(shutil, "disk_usage", lambda p: usage(0, 0, 5_000_000))
+    out = tmp_path / "out.csv"
+    resources.check_disk(out, 5_000_000, "the output")           # exactly what is free: fits
+    with pytest.raises(ImunavError) as e:
+        resources.check_disk(out, 5_000_001, "the output")
+    assert str(e.value) == f"the output would write about 5 MB to {out}; the disk has 5 MB free"
+
+    def gone(p):
+        raise OSError(p)
+
+    monkeypatch.setattr(shutil, "disk_usage", gone)
+    resources.check_disk(out, 1e30, "the output")                 # unknown: not refused
