@@ -49,12 +49,16 @@ def test_defaults_and_argument_checks():
         monte_carlo(M, model, 20.0, seed=-1)
 
 
-def test_progress_bar_only_for_long_runs():
+def test_progress_bar_only_for_long_runs(monkeypatch):
+    # a recorder instead of tqdm: a real bar starts tqdm's monitor thread, and a thread alive at
+    # a fork (mutmut forks a process per mutant) can leave a lock held in the child
+    import tqdm.auto
+
+    made = []
+    monkeypatch.setattr(tqdm.auto, "tqdm", lambda **kw: made.append(kw) or kw)
     assert _progress(3, 10**7, False) is None
     assert _progress(1, 10**7, True) is None                 # one chunk: nothing to show
     assert _progress(3, 4_999_999, True) is None             # short: no bar
+    assert made == []
     bar = _progress(2, 5_000_000, True)                      # the smallest run with a bar
-    try:
-        assert (bar.total, bar.desc, bar.unit) == (2, "Monte Carlo", "chunk")
-    finally:
-        bar.close()
+    assert made == [bar] == [{"total": 2, "desc": "Monte Carlo", "unit": "chunk"}]
