@@ -203,3 +203,29 @@ def test_check_disk_refuses_what_does_not_fit(monkeypatch, tmp_path):
 
     monkeypatch.setattr(shutil, "disk_usage", gone)
     resources.check_disk(out, 1e30, "the output")                 # unknown: not refused
+
+
+def test_validation_messages_in_full():
+    from imunav.core.validation import as_float_array, check_int, check_positive, check_time
+
+    def msg(f, *a, **k):
+        with pytest.raises(ImunavError) as e:
+            f(*a, **k)
+        return str(e.value)
+
+    assert msg(as_float_array, np.zeros((2, 4)), "q0", ndim=1, last=4) == (
+        "q0 must have 1 dimension(s), got shape (2, 4)")
+    assert msg(as_float_array, np.zeros((5, 2)), "gyro", ndim=2, last=3) == (
+        "gyro must have shape (N, 3), got (5, 2)")
+    assert msg(as_float_array, np.zeros((2, 2, 2)), "x", ndim=3, last=3) == (
+        "x must have shape (N, N, 3), got (2, 2, 2)")
+    assert msg(as_float_array, [[1.0, 2.0], [3.0, np.nan]], "x") == (
+        "x contains NaN or inf (first at index (1, 1))")
+    assert msg(as_float_array, {"a": 1}, "x").startswith("x must be numeric, got dict: ")
+    assert msg(check_int, 1.5, "runs") == "runs must be an integer ≥ 0, got 1.5"
+    assert msg(check_int, -2, "runs", 1) == "runs must be an integer ≥ 1, got -2"
+    assert check_int(0, "seed") == 0                      # the default minimum is 0
+    assert msg(check_positive, -3.0, "rate") == "rate must be a positive finite number, got -3"
+    # two samples are enough to be out of order
+    assert msg(check_time, [2.0, 1.0], "t") == (
+        "t must be strictly increasing; t[1] = 1 does not exceed t[0] = 2")
