@@ -349,11 +349,13 @@ def test_norm_cdf_batches_and_non_positive_radius():
                                rtol=1e-12)
 
 
-@pytest.mark.parametrize("d", [0.0, 1e-6, -3e-4, 0.049, -0.049, 0.051, 0.5, -2.0, -40.0])
+@pytest.mark.parametrize("d", [0.0, 1e-6, -3e-4, 0.049, -0.049, 0.051, 0.5, -2.0, 24.0, 26.0,
+                               -24.0, -26.0, -40.0, -400.0])
 def test_phi_functions_against_quadrature(d):
-    """φ_i(d) = ∫_0^h (h−s)^i/i! e^{d s} ds (both the series branch, |d·h| < 1e-3, and the
-    closed form), by scipy quad; d = ±0.049 puts d·h just inside the series branch, where its
-    x² and x³ terms matter at 1e-11."""
+    """φ_i(d) = ∫_0^h (h−s)^i/i! e^{d s} ds by scipy quad, to 1e-13, on both sides of the switch
+    from the series to the closed form (|d·h| = 0.5) and where the old switch (1e-3) was: the
+    closed form for φ2 had lost 7 digits there (1.5e-7 at d·h = 1.02e-3), found by this test
+    once pytest.approx's default abs=1e-12 no longer hid it."""
     from imunav.analysis.covariance import _phi_functions
 
     h = 0.02
@@ -361,7 +363,7 @@ def test_phi_functions_against_quadrature(d):
     for i, fact in enumerate((1, 1, 2)):
         want = quad(lambda s, i=i, fact=fact: (h - s) ** i / fact * np.exp(d * s), 0, h,
                     epsabs=0, epsrel=1e-13)[0]
-        assert got[i][0] == pytest.approx(want, rel=1e-11, abs=0), i   # (approx adds abs=1e-12)
+        assert got[i][0] == pytest.approx(want, rel=1e-13, abs=0), i   # (approx adds abs=1e-12)
 
 
 def test_aliasing_gain_cases():
