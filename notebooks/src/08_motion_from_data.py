@@ -35,6 +35,7 @@ from ipywidgets import FloatSlider, interact
 
 from imunav import Motion, simulate_imu
 from imunav.analysis.assessment import assess_covariance, format_verdict
+from imunav.analysis.family import fmt_err
 from imunav.analysis.metrics import fit_order
 from imunav.core.rotations import quat_mul, quat_to_euler
 from imunav.io import load_motion
@@ -78,8 +79,8 @@ np.savetxt(work / "poses.csv", np.hstack([t[:, None], p, q]), delimiter=",",
            header="t,x,y,z,qw,qx,qy,qz", comments="", fmt="%.17g")
 poses, duration, _ = load_motion(work / "poses.csv")
 print(f"{type(poses).__name__}: {poses.breakpoints.size} poses over {duration:g} s")
-print(f"through the poses: position {np.abs(poses.position(t) - p).max():.1e} m, "
-      f"attitude {np.abs(poses.attitude(t) - q).max():.1e}")
+print(f"through the poses: position {fmt_err(np.abs(poses.position(t) - p).max(), 1e-12, 0)} m, "
+      f"attitude {fmt_err(np.abs(poses.attitude(t) - q).max(), 1e-12, 0)}  (below 1e-12: rounding)")
 
 interior = np.linspace(1.0, 29.0, 8001)          # away from the not-a-knot ends
 rows = []
@@ -207,8 +208,9 @@ route = WaypointMotion(wt, wp, orientation="follow", name="block drive")
 tt = np.linspace(0.0, 60.0, 6001)
 pos, vel = route.position(tt), route.velocity(tt)
 ypr = quat_to_euler(route.attitude(tt))
-print(f"through the waypoints: {np.abs(route.position(np.array(wt)) - np.array(wp)).max():.1e} m; "
-      f"speed at the ends {np.linalg.norm(route.velocity(np.array([0.0, 60.0])), axis=1).max():.1e} m/s")
+print(f"through the waypoints: {fmt_err(np.abs(route.position(np.array(wt)) - np.array(wp)).max(), 1e-12, 0)} m; "
+      f"speed at the ends {fmt_err(np.linalg.norm(route.velocity(np.array([0.0, 60.0])), axis=1).max(), 1e-12, 0)} m/s"
+      "  (below 1e-12: rounding)")
 print(f"top speed {np.linalg.norm(vel, axis=1).max():.1f} m/s, max |roll| "
       f"{np.degrees(np.abs(ypr[:, 2])).max():.1f}°, max |f_b| {np.linalg.norm(route.specific_force(tt), axis=1).max():.2f} m/s²")
 
