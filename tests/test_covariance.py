@@ -12,7 +12,7 @@ from imunav.analysis.covariance import LINEAR_LIMIT, covariance
 from imunav.analysis.gaussnorm import norm_cdf, norm_quantile
 from imunav.analysis.montecarlo import monte_carlo
 from imunav.core.constants import G0
-from imunav.core.rotations import _angle
+from imunav.core.kernels import quat_angle
 from imunav.motion.catalog import figure_eight
 from imunav.sensors.models import ImuModel, TriadModel, bias_instability_sigma, measure
 from imunav.sensors.simulate import simulate_imu
@@ -236,7 +236,7 @@ def test_resolution_as_dithered_white_noise():
     qa, _, pa = runs_of(noisy)
     qb, _, pb = runs_of(quant)
     dp = np.linalg.norm(pb - pa, axis=-1).T
-    da = _angle(qb, qa).T
+    da = quat_angle(qb, qa).T
     cov = covariance(motion, _model("gyro", resolution=q), rate)
     idx = np.linspace(0, t.size - 1, 11).round().astype(int)[1:]
     _agree(cov.position_quantile(index=idx), dp[:, idx], "resolution position")

@@ -56,7 +56,8 @@ from scipy.special import erf, gammaincinv, ndtri
 
 from imunav.analysis.gaussnorm import chi3_cdf, norm_cdf, norm_quantile
 from imunav.core.constants import G0
-from imunav.core.rotations import FloatArray, _dcm
+from imunav.core.kernels import quat_to_dcm
+from imunav.core.rotations import FloatArray
 from imunav.core.validation import check_gravity, check_positive
 from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import ImuModel, TriadModel, _flicker_bank, bias_instability_sigma
@@ -100,7 +101,7 @@ class Trajectory:
         a = motion.acceleration(tm) - np.array([0.0, 0.0, g])
         w = motion.angular_rate(tm)
         fb = motion.specific_force(tm, g)
-        return cls(h, t, _dcm(q), a, w, fb, float(np.linalg.norm(w, axis=1).max()),
+        return cls(h, t, quat_to_dcm(q), a, w, fb, float(np.linalg.norm(w, axis=1).max()),
                    float(np.linalg.norm(fb, axis=1).max()))
 
 

@@ -13,7 +13,7 @@ import numpy as np
 
 from imunav.analysis.metrics import fit_order, nav_errors
 from imunav.analysis.roundtrip import initial_state
-from imunav.core.rotations import _angle, _cross
+from imunav.core.kernels import cross, quat_angle
 from imunav.motion.base import BaseMotion
 from imunav.sensors.simulate import simulate_imu
 from imunav.strapdown import highorder
@@ -110,7 +110,7 @@ def poly_sweep(motion: BaseMotion, rate: float, configs, duration: float | None 
         dt = time.perf_counter() - t0
         rows.append({"nodes": m, "magnus": order, "substeps": nsub,
                      "evals_per_interval": nsub * order // 2,
-                     "max_att_deg": float(np.degrees(_angle(q, qt).max())), "seconds": dt})
+                     "max_att_deg": float(np.degrees(quat_angle(q, qt).max())), "seconds": dt})
     return rows
 
 
@@ -122,16 +122,16 @@ def coning_correction_budget(motion: BaseMotion, rate: float, duration: float | 
     q0, v0, p0 = initial_state(motion, sig)
     nav = navigate(sig, q0, v0, p0, algorithm="exact_exponential")
     th = sig.dtheta
-    corr = _cross(th[:-1], th[1:]) / 12
+    corr = cross(th[:-1], th[1:]) / 12
     rates = simulate_imu(motion, rate, duration, output="rates")
     nr = navigate(rates, *initial_state(motion, rates), algorithm="exact_exponential")
     return {
-        "exact_exponential_increments_rad": float(_angle(nav.quaternion[-1],
+        "exact_exponential_increments_rad": float(quat_angle(nav.quaternion[-1],
                                                          motion.attitude(nav.t[-1:])[0])),
         "sum_coning_terms_rad": float(np.linalg.norm(corr.sum(axis=0))),
-        "exact_exponential_rates_rad": float(_angle(nr.quaternion[-1],
+        "exact_exponential_rates_rad": float(quat_angle(nr.quaternion[-1],
                                                     motion.attitude(nr.t[-1:])[0])),
-        "coning2_increments_rad": float(_angle(
+        "coning2_increments_rad": float(quat_angle(
             navigate(sig, q0, v0, p0, algorithm="coning2").quaternion[-1],
             motion.attitude(nav.t[-1:])[0])),
     }

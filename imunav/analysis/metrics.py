@@ -9,7 +9,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from imunav.core.rotations import FloatArray, _angle
+from imunav.core.kernels import quat_angle
+from imunav.core.rotations import FloatArray
 from imunav.core.states import States
 from imunav.motion.base import BaseMotion
 
@@ -39,7 +40,7 @@ def nav_errors(nav: States, truth: BaseMotion | States) -> NavErrors:
     ref = truth.states(nav.t) if isinstance(truth, BaseMotion) else truth
     return NavErrors(
         nav.t,
-        _angle(nav.quaternion, ref.quaternion),
+        quat_angle(nav.quaternion, ref.quaternion),
         np.linalg.norm(nav.velocity - ref.velocity, axis=-1),
         np.linalg.norm(nav.position - ref.position, axis=-1),
     )

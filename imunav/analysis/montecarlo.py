@@ -17,8 +17,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from imunav.core.constants import G0
+from imunav.core.kernels import quat_angle
 from imunav.core.resources import check_memory
-from imunav.core.rotations import FloatArray, _angle
+from imunav.core.rotations import FloatArray
 from imunav.core.validation import ImunavError, check_int, check_positive
 from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import ImuModel, measure
@@ -63,7 +64,7 @@ def _mc_chunk(gyro, accel, kind, sim_rate, k, model, seeds, q0, v0, p0, g, truth
     q, v, p = navigate_batch(kind, G, A, rate, q0, v0, p0, g, algorithm=algorithm)
     pos = np.linalg.norm(p - truth_p[:, None], axis=-1).T
     vel = np.linalg.norm(v - truth_v[:, None], axis=-1).T
-    att = _angle(q, truth_q[:, None]).T
+    att = quat_angle(q, truth_q[:, None]).T
     return pos, vel, att, np.array(S)
 
 

@@ -4,11 +4,12 @@ All functions are vectorised over leading axes: quaternions have shape ``(..., 4
 ``[w, x, y, z]``, vectors ``(..., 3)``, matrices ``(..., 3, 3)``. ``q_nb`` rotates body vectors
 into the navigation frame, ``v_n = q ⊗ v_b ⊗ q*`` and ``C_nb = quat_to_dcm(q_nb)``.
 
-Public functions check their inputs; the underscore kernels (``_mul``, ``_rotate``, ``_conj``,
-``_exp``, ``_log``, ``_angle``, ``_dcm``, ``_cross``) are unchecked and are what the numeric
-layers above call in hot paths.
+This is the checked facade: every function converts and checks its arguments (shapes, finite
+values, unit norm where a rotation is meant) and raises :class:`~imunav.core.validation.ImunavError`
+naming the argument. The arithmetic is in :mod:`imunav.core.kernels` (the same operations under
+the same names, unchecked), which the numeric layers above call in their hot paths.
 
-May import: ``imunav.core.validation``.
+May import: ``imunav.core.validation``, ``imunav.core.kernels``.
 """
 
 from __future__ import annotations
@@ -17,11 +18,10 @@ import warnings
 
 import numpy as np
 import numpy.typing as npt
-from numpy.typing import NDArray
 
+from imunav.core import kernels as K
+from imunav.core.kernels import FloatArray
 from imunav.core.validation import ImunavError, as_float_array
-
-FloatArray = NDArray[np.float64]
 
 #: ``|cos θ|`` below which Z-Y-X Euler angles are treated as gimbal-locked.
 GIMBAL_LOCK_TOL = 1e-9
@@ -39,36 +39,13 @@ def quat_mul(p: npt.ArrayLike, q: npt.ArrayLike) -> FloatArray:
     """
     p = as_float_array(p, "p", last=4)
     q = as_float_array(q, "q", last=4)
-    return _mul(p, q)
-
-
-def _mul(p: FloatArray, q: FloatArray) -> FloatArray:
-    # Unchecked kernel for internal hot paths.
-    pw, px, py, pz = p[..., 0], p[..., 1], p[..., 2], p[..., 3]
-    qw, qx, qy, qz = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    return np.stack(
-        [
-            pw * qw - px * qx - py * qy - pz * qz,
-            pw * qx + px * qw + py * qz - pz * qy,
-            pw * qy - px * qz + py * qw + pz * qx,
-            pw * qz + px * qy - py * qx + pz * qw,
-        ],
-        axis=-1,
-    )
-
-
-_CONJ = np.array([1.0, -1.0, -1.0, -1.0])
+    return K.quat_mul(p, q)
 
 
 def quat_conj(q: npt.ArrayLike) -> FloatArray:
     """Conjugate ``q* = [w, −x, −y, −z]`` (the inverse of a unit quaternion)."""
     q = as_float_array(q, "q", last=4)
-    return _conj(q)
-
-
-def _conj(q: FloatArray) -> FloatArray:
-    # Unchecked kernel: q* for any (..., 4) array.
-    return q * _CONJ
+    return K.quat_conj(q)
 
 
 def quat_normalize(q: npt.ArrayLike, name: str = "q") -> FloatArray:
@@ -88,52 +65,13 @@ def quat_rotate(q: npt.ArrayLike, v: npt.ArrayLike) -> FloatArray:
     """
     q = quat_normalize(q)
     v = as_float_array(v, "v", last=3)
-    return _rotate(q, v)
-
-
-def _rotate(q: FloatArray, v: FloatArray) -> FloatArray:
-    # v' = v + 2w (u × v) + 2 u × (u × v), u the vector part of unit q.
-    w = q[..., :1]
-    u = q[..., 1:]
-    t = _cross(u, v)
-    t *= 2.0
-    out = _cross(u, t)
-    out += v
-    out += w * t
-    return out
-
-
-def _cross(a: FloatArray, b: FloatArray) -> FloatArray:
-    """``a × b`` over the last axis (3), broadcasting; componentwise, without the axis moves
-    and casts of ``np.cross``, which dominate its cost on long arrays."""
-    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
-    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
-    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    np.multiply(a1, b2, out=out[..., 0])
-    out[..., 0] -= a2 * b1
-    np.multiply(a2, b0, out=out[..., 1])
-    out[..., 1] -= a0 * b2
-    np.multiply(a0, b1, out=out[..., 2])
-    out[..., 2] -= a1 * b0
-    return out
+    return K.quat_rotate(q, v)
 
 
 def quat_to_dcm(q: npt.ArrayLike) -> FloatArray:
     """Direction cosine matrix ``C`` with ``C @ v == quat_rotate(q, v)``; shape ``(..., 3, 3)``."""
     q = quat_normalize(q)
-    return _dcm(q)
-
-
-def _dcm(q: FloatArray) -> FloatArray:
-    w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    return np.stack(
-        [
-            np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
-            np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
-            np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1),
-        ],
-        axis=-2,
-    )
+    return K.quat_to_dcm(q)
 
 
 def quat_from_dcm(c: npt.ArrayLike, *, atol: float = 1e-6) -> FloatArray:
@@ -177,21 +115,14 @@ def quat_from_dcm(c: npt.ArrayLike, *, atol: float = 1e-6) -> FloatArray:
     return np.where(out[..., :1] < 0, -out, out)
 
 
-def _axis_quat(angle: FloatArray, axis: int) -> FloatArray:
-    q = np.zeros(np.shape(angle) + (4,))
-    q[..., 0] = np.cos(angle / 2)
-    q[..., axis] = np.sin(angle / 2)
-    return q
-
-
 def euler_to_quat(ypr: npt.ArrayLike) -> FloatArray:
     """Quaternion ``q_nb = q_z(ψ) ⊗ q_y(θ) ⊗ q_x(φ)`` from ``ypr = [yaw ψ, pitch θ, roll φ]`` (rad).
 
     Intrinsic Z-Y-X: the same rotation as ``Rotation.from_euler("ZYX", [ψ, θ, φ])``.
     """
     ypr = as_float_array(ypr, "ypr", last=3)
-    return _mul(_mul(_axis_quat(ypr[..., 0], 3), _axis_quat(ypr[..., 1], 2)),
-                _axis_quat(ypr[..., 2], 1))
+    return K.quat_mul(K.quat_mul(K.axis_quat(ypr[..., 0], 3), K.axis_quat(ypr[..., 1], 2)),
+                      K.axis_quat(ypr[..., 2], 1))
 
 
 def quat_to_euler(q: npt.ArrayLike) -> FloatArray:
@@ -229,12 +160,7 @@ def quat_exp(rotvec: npt.ArrayLike) -> FloatArray:
     Exact at ``φ = 0`` (uses ``sin(a/2)/a = sinc(a/2π)/2``, no division by zero).
     """
     v = as_float_array(rotvec, "rotvec", last=3)
-    return _exp(v)
-
-
-def _exp(v: FloatArray) -> FloatArray:
-    a = np.linalg.norm(v, axis=-1, keepdims=True)
-    return np.concatenate([np.cos(a / 2), 0.5 * np.sinc(a / (2 * np.pi)) * v], axis=-1)
+    return K.quat_exp(v)
 
 
 def quat_log(q: npt.ArrayLike) -> FloatArray:
@@ -244,16 +170,7 @@ def quat_log(q: npt.ArrayLike) -> FloatArray:
     for ``|w|`` slightly above 1; the zero rotation gives exactly 0.
     """
     q = quat_normalize(q)
-    return _log(q)
-
-
-def _log(q: FloatArray) -> FloatArray:
-    q = np.where(q[..., :1] < 0, -q, q)  # short way round: q and −q are the same rotation
-    w = q[..., :1]
-    v = q[..., 1:]
-    n = np.linalg.norm(v, axis=-1, keepdims=True)
-    # Where |v| = 0 the result is 0 whatever the factor, so divide by 1 there.
-    return 2 * np.arctan2(n, w) / np.where(n > 0, n, 1.0) * v
+    return K.quat_log(q)
 
 
 def quat_angle(p: npt.ArrayLike, q: npt.ArrayLike) -> FloatArray:
@@ -263,22 +180,12 @@ def quat_angle(p: npt.ArrayLike, q: npt.ArrayLike) -> FloatArray:
     ``2 atan2(|vec|, |w|)`` so that angles far below 1e-8 rad are resolved (an
     ``arccos``-based angle floors near 1e-8 rad).
     """
-    return _angle(quat_normalize(p, "p"), quat_normalize(q, "q"))
-
-
-def _angle(p: FloatArray, q: FloatArray) -> FloatArray:
-    d = _mul(_conj(p), q)
-    return 2 * np.arctan2(np.linalg.norm(d[..., 1:], axis=-1), np.abs(d[..., 0]))
+    return K.quat_angle(quat_normalize(p, "p"), quat_normalize(q, "q"))
 
 
 def skew(v: npt.ArrayLike) -> FloatArray:
     """Cross-product matrix ``[v×]`` with ``skew(a) @ b == cross(a, b)``; shape ``(..., 3, 3)``."""
-    v = as_float_array(v, "v", last=3)
-    z = np.zeros(v.shape[:-1])
-    x, y, w = v[..., 0], v[..., 1], v[..., 2]
-    return np.stack(
-        [np.stack([z, -w, y], -1), np.stack([w, z, -x], -1), np.stack([-y, x, z], -1)], axis=-2
-    )
+    return K.skew(as_float_array(v, "v", last=3))
 
 
 def to_scipy(q: npt.ArrayLike):

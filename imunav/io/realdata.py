@@ -18,7 +18,8 @@ from pathlib import Path
 import numpy as np
 
 from imunav.core.constants import DEG, G0
-from imunav.core.rotations import FloatArray, _angle, _conj, _mul
+from imunav.core.kernels import quat_angle, quat_conj, quat_mul
+from imunav.core.rotations import FloatArray
 from imunav.core.units import factor
 from imunav.core.validation import ImunavError, check_positive
 from imunav.io.csvio import read_chunks, read_header
@@ -191,10 +192,10 @@ def device_quaternion_convention(rec: Recording, window: float = 2.0) -> dict:
             for a, b, i in zip(ti[ok], tj[ok], idx[ok], strict=True):
                 qa, qb = qd[a], qd[b]
                 if meaning == "q_bn":
-                    qa, qb = _conj(qa), _conj(qb)
-                rel_dev = _mul(_conj(qa), qb)
+                    qa, qb = quat_conj(qa), quat_conj(qb)
+                rel_dev = quat_mul(quat_conj(qa), qb)
                 g = gyro_attitude(sig, [1.0, 0, 0, 0], i, i + n + 1)[-1]
-                errs.append(np.degrees(_angle(rel_dev, g)))
+                errs.append(np.degrees(quat_angle(rel_dev, g)))
             out[f"{layout}/{meaning}"] = float(np.median(errs))
     return out
 
@@ -205,7 +206,7 @@ def device_as_q_nb(rec: Recording) -> FloatArray:
     x-IMU3 ``[W, X, Y, Z]`` sensor→earth; x-IMU ``[w, x, y, z]`` earth→sensor (conjugated)."""
     q = _device_at(rec, "wxyz")
     if rec.meta.get("device") == "x-IMU":
-        q = _conj(q)
+        q = quat_conj(q)
     return q
 
 
@@ -228,7 +229,7 @@ def gyro_vs_device(rec: Recording, windows=(0.25, 0.5, 1.0, 2.0), algorithm: str
                 break
             q = gyro_attitude(ImuSignals(sig.t, sig.gyro, sig.accel, "rates", sig.rate, sig.g),
                               qd[a], i, i + n + 1, algorithm)[-1]
-            errs.append(np.degrees(_angle(q, qd[b])))
+            errs.append(np.degrees(quat_angle(q, qd[b])))
         out[w] = float(np.median(errs))
     return out
 

@@ -14,7 +14,8 @@ import numpy as np
 import numpy.typing as npt
 
 from imunav.core.constants import G0
-from imunav.core.rotations import FloatArray, _conj, _dcm, _rotate, quat_to_euler
+from imunav.core.kernels import quat_conj, quat_rotate, quat_to_dcm
+from imunav.core.rotations import FloatArray, quat_to_euler
 from imunav.core.states import States
 from imunav.core.validation import as_float_array, check_gravity
 
@@ -58,7 +59,7 @@ class BaseMotion:
         g = check_gravity(g)
         a = self.acceleration(t)
         a = a - np.array([0.0, 0.0, g])
-        return _rotate(_conj(self.attitude(t)), a)
+        return quat_rotate(quat_conj(self.attitude(t)), a)
 
     def euler(self, t: npt.ArrayLike) -> FloatArray:
         """``[yaw, pitch, roll]`` (rad) of :meth:`attitude`."""
@@ -66,7 +67,7 @@ class BaseMotion:
 
     def dcm(self, t: npt.ArrayLike) -> FloatArray:
         """``C_nb`` at times ``t``; shape ``t.shape + (3, 3)``."""
-        return _dcm(self.attitude(t))
+        return quat_to_dcm(self.attitude(t))
 
     def states(self, t: npt.ArrayLike) -> States:
         """True position, velocity and attitude at the times ``t`` (1-D)."""

@@ -16,7 +16,8 @@ import numpy as np
 import numpy.typing as npt
 import sympy as sp
 
-from imunav.core.rotations import FloatArray, _mul
+from imunav.core.kernels import axis_quat, quat_mul
+from imunav.core.rotations import FloatArray
 from imunav.core.validation import ImunavError, as_float_array, check_positive
 from imunav.motion.analytic import LawMotion
 from imunav.motion.base import BaseMotion, times
@@ -58,13 +59,6 @@ class QuaternionLawMotion(LawMotion):
 
     def angular_rate(self, t):
         return self._eval("angular_rate", t)
-
-
-def _axis(a: FloatArray, i: int) -> FloatArray:
-    q = np.zeros(np.shape(a) + (4,))
-    q[..., 0] = np.cos(a / 2)
-    q[..., i] = np.sin(a / 2)
-    return q
 
 
 class FourRotationMotion(BaseMotion):
@@ -114,8 +108,8 @@ class FourRotationMotion(BaseMotion):
 
     def attitude(self, t):
         a, _ = self.angles(t)
-        return _mul(_mul(_mul(_axis(a[..., 0], 3), _axis(a[..., 1], 2)), _axis(a[..., 2], 1)),
-                    _axis(a[..., 3], 2))
+        return quat_mul(quat_mul(quat_mul(axis_quat(a[..., 0], 3), axis_quat(a[..., 1], 2)),
+                                 axis_quat(a[..., 2], 1)), axis_quat(a[..., 3], 2))
 
     def angular_rate(self, t):
         a, r = self.angles(t)

@@ -37,7 +37,11 @@ import numpy.typing as npt
 import sympy as sp
 
 from imunav.core.constants import DEG, G0
-from imunav.core.rotations import FloatArray, _angle, _exp, _mul, _rotate, quat_to_euler
+from imunav.core.kernels import quat_angle as _angle
+from imunav.core.kernels import quat_exp as _exp
+from imunav.core.kernels import quat_mul as _mul
+from imunav.core.kernels import quat_rotate as _rotate
+from imunav.core.rotations import FloatArray, quat_to_euler
 from imunav.core.validation import ImunavError, as_float_array, check_positive
 from imunav.motion.analytic import Motion
 from imunav.motion.laws import T

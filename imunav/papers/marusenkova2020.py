@@ -33,15 +33,10 @@ import numpy as np
 
 from imunav.analysis.metrics import nav_errors
 from imunav.core.constants import G0
-from imunav.core.rotations import (
-    FloatArray,
-    _dcm,
-    _exp,
-    _mul,
-    euler_to_quat,
-    quat_angle,
-    quat_from_dcm,
-)
+from imunav.core.kernels import quat_exp as _exp
+from imunav.core.kernels import quat_mul as _mul
+from imunav.core.kernels import quat_to_dcm as _dcm
+from imunav.core.rotations import FloatArray, euler_to_quat, quat_angle, quat_from_dcm
 from imunav.core.validation import ImunavError, check_positive
 from imunav.motion.analytic import Motion
 from imunav.papers.records import record

@@ -18,7 +18,9 @@ import numpy as np
 import numpy.typing as npt
 
 from imunav.analysis.metrics import fit_order
-from imunav.core.rotations import FloatArray, _angle, _exp
+from imunav.core.kernels import quat_angle as _angle
+from imunav.core.kernels import quat_exp as _exp
+from imunav.core.rotations import FloatArray
 from imunav.core.validation import ImunavError, as_float_array, check_positive
 from imunav.motion.base import BaseMotion
 from imunav.motion.quaternion_law import PAPER_K as PAPER_K  # the paper's Fig. 1–3 frequencies

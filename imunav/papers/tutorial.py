@@ -21,7 +21,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from imunav.analysis.metrics import fit_order
-from imunav.core.rotations import FloatArray, _angle, _dcm, _exp, _mul
+from imunav.core.kernels import quat_angle as _angle
+from imunav.core.kernels import quat_exp as _exp
+from imunav.core.kernels import quat_mul as _mul
+from imunav.core.kernels import quat_to_dcm as _dcm
+from imunav.core.rotations import FloatArray
 from imunav.core.validation import ImunavError, check_positive
 from imunav.motion.analytic import Motion
 from imunav.papers.records import record

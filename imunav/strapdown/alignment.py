@@ -13,7 +13,8 @@ import numpy as np
 import numpy.typing as npt
 
 from imunav.core.constants import G0
-from imunav.core.rotations import FloatArray, _conj, _rotate, euler_to_quat
+from imunav.core.kernels import quat_conj, quat_rotate
+from imunav.core.rotations import FloatArray, euler_to_quat
 from imunav.core.validation import ImunavError, as_float_array, check_gravity
 
 
@@ -40,7 +41,7 @@ def level_attitude(accel: npt.ArrayLike, g: float = G0, tol: float = 0.05,
 def gravity_reading(q: npt.ArrayLike, g: float = G0) -> FloatArray:
     """What an ideal accelerometer at rest reads at attitude ``q_nb``: ``C_bn (−g_n)``."""
     q = as_float_array(q, "q", last=4)
-    return _rotate(_conj(q), np.array([0.0, 0.0, -g]))
+    return quat_rotate(quat_conj(q), np.array([0.0, 0.0, -g]))
 
 
 def remove_static_biases(gyro: FloatArray, accel: FloatArray, window: slice, q0: FloatArray,

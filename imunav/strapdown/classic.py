@@ -21,7 +21,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from imunav.core.rotations import FloatArray, _cross, _exp, _mul, _rotate
+from imunav.core.kernels import cross, quat_exp, quat_mul, quat_rotate
+from imunav.core.rotations import FloatArray
 from imunav.strapdown.scan import cumulative_product, exp_product
 
 
@@ -55,7 +56,7 @@ def accumulate(v0: FloatArray, p0: FloatArray, dv: FloatArray, dp_extra: FloatAr
 
 def _rates_trapezoid_nav(accel, h, q, v0, p0, g):
     # v_k = v_{k−1} + h/2 (a_{k−1} + a_k); p exact for a linear in time.
-    a = _rotate(q, accel) + _gravity(g)
+    a = quat_rotate(q, accel) + _gravity(g)
     dv = h / 2 * (a[:-1] + a[1:])
     dp_extra = h * h / 6 * (2 * a[:-1] + a[1:])
     return accumulate(v0, p0, dv, dp_extra, h)
@@ -88,12 +89,12 @@ def _inc_velocity(dth, dv, h, q, v0, p0, g, sculling: bool, first: int = 0):
     sculling (1/12 (Δθ_{k−1}×Δv_k + Δv_{k−1}×Δθ_k)); position by the trapezoid rule. The
     window's intervals ``first .. first + len(q) − 2`` are integrated (the pairs look back)."""
     n = q.shape[0] - 1
-    body = dv[first:first + n] + 0.5 * _cross(dth[first:first + n], dv[first:first + n])
+    body = dv[first:first + n] + 0.5 * cross(dth[first:first + n], dv[first:first + n])
     if sculling:
         tp, tc = _pairs(dth[: first + n])
         vp, vc = _pairs(dv[: first + n])
-        body = body + (_cross(tp[first:], vc[first:]) + _cross(vp[first:], tc[first:])) / 12
-    dvn = _rotate(q[:-1], body) + _gravity(g * h)
+        body = body + (cross(tp[first:], vc[first:]) + cross(vp[first:], tc[first:])) / 12
+    dvn = quat_rotate(q[:-1], body) + _gravity(g * h)
     return accumulate(v0, p0, dvn, 0.5 * h * dvn, h)
 
 
@@ -118,7 +119,7 @@ def increments_coning2(dth, dv, h, q0, v0, p0, g, first, count):
     """``φ = Δθ_k + Δθ_{k−1}×Δθ_k/12``, two-sample sculling and rotation compensation."""
     dth, dv = dth[: first + count], dv[: first + count]
     prev, cur = _pairs(dth)
-    q = exp_product(q0, (dth + _cross(prev, cur) / 12)[first:])
+    q = exp_product(q0, (dth + cross(prev, cur) / 12)[first:])
     v, p = _inc_velocity(dth, dv, h, q, v0, p0, g, sculling=True, first=first)
     return q, v, p
 
@@ -154,7 +155,7 @@ def multisample(name: str):
             t = th[: groups * n].reshape((groups, n) + rest)
             phi = t.sum(axis=1)
             for (i, j), c in coef.items():
-                phi = phi + c * _cross(t[:, i], t[:, j])
+                phi = phi + c * cross(t[:, i], t[:, j])
         qm = exp_product(q0, phi)                             # at every n-th sample
         k = np.arange(1, N + 1)
         base = (k - 1) // n                                   # index of the major attitude
@@ -164,10 +165,10 @@ def multisample(name: str):
         part = cs - csum0[start]                              # Σθ within the group so far
         # ½ Σ_{a<b} θ_a × θ_b = ½ Σ_b (Σ_{a<b} θ_a) × θ_b
         prev_in_group = csum0[:-1] - csum0[start]
-        crs = np.cumsum(_cross(prev_in_group, th) / 2, axis=0)
+        crs = np.cumsum(cross(prev_in_group, th) / 2, axis=0)
         crs0 = np.concatenate([np.zeros((1,) + rest), crs])
         part2 = crs - crs0[start]
-        q = _mul(qm[base], _exp(part + part2))
+        q = quat_mul(qm[base], quat_exp(part + part2))
         full = k % n == 0
         q[full] = qm[k[full] // n]
         q = np.concatenate([qm[:1], q])

@@ -32,7 +32,8 @@ from functools import cache
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
-from imunav.core.rotations import FloatArray, _cross, _exp, _mul, _rotate
+from imunav.core.kernels import cross, quat_exp, quat_mul, quat_rotate
+from imunav.core.rotations import FloatArray
 from imunav.strapdown.scan import exp_product
 
 _G4 = np.array([0.5 - np.sqrt(3) / 6, 0.5 + np.sqrt(3) / 6])
@@ -42,7 +43,7 @@ _GQ_X, _GQ_W = _G6, np.array([5 / 18, 8 / 18, 5 / 18])  # 3-point Gauss–Legend
 
 def _br(x: FloatArray, y: FloatArray) -> FloatArray:
     """Lie bracket for right-multiplied body-frame rotation vectors: ``[x, y] = y × x``."""
-    return _cross(y, x)
+    return cross(y, x)
 
 
 def magnus4(w: FloatArray, h: FloatArray | float) -> FloatArray:
@@ -188,8 +189,8 @@ def interval_quaternions(fit: LocalFit, order: int, nsub: int) -> FloatArray:
     dq = None
     for j in range(nsub):
         w = fit.at((j + nodes) / nsub)
-        e = _exp(step(w, fit.h / nsub))
-        dq = e if dq is None else _mul(dq, e)
+        e = quat_exp(step(w, fit.h / nsub))
+        dq = e if dq is None else quat_mul(dq, e)
     return dq
 
 
@@ -232,7 +233,7 @@ def navigate_poly(kind: str, gyro: FloatArray, accel: FloatArray, h: float, q0: 
         dp_b[lo:hi] = 0.0
         for i, si in enumerate(_GQ_X):                           # R(Eᵢ) fᵢ, body at t_{k−1}
             wi = np.moveaxis(w[nn * (i + 1): nn * (i + 2)], 0, -2)
-            rf = _rotate(_exp(step(wi, h * si)), f[i])
+            rf = quat_rotate(quat_exp(step(wi, h * si)), f[i])
             dv_b[lo:hi] += (h * _GQ_W[i]) * rf
             dp_b[lo:hi] += (h * h * _GQ_W[i] * (1 - si)) * rf
     q = exp_product(q0, phi)
@@ -243,13 +244,13 @@ def navigate_poly(kind: str, gyro: FloatArray, accel: FloatArray, h: float, q0: 
     v[0], p[0] = v0, p0
     for lo in range(0, n, per):                                  # navigation-frame increments
         hi = min(n, lo + per)
-        v[lo + 1: hi + 1] = _rotate(q[lo:hi], dv_b[lo:hi]) + gn * h
+        v[lo + 1: hi + 1] = quat_rotate(q[lo:hi], dv_b[lo:hi]) + gn * h
     del dv_b
     np.cumsum(v[1:], axis=0, out=v[1:])
     v[1:] += v[0]
     for lo in range(0, n, per):
         hi = min(n, lo + per)
-        p[lo + 1: hi + 1] = _rotate(q[lo:hi], dp_b[lo:hi]) + gn * h * h / 2 + h * v[lo:hi]
+        p[lo + 1: hi + 1] = quat_rotate(q[lo:hi], dp_b[lo:hi]) + gn * h * h / 2 + h * v[lo:hi]
     np.cumsum(p[1:], axis=0, out=p[1:])
     p[1:] += p[0]
     return q, v, p
