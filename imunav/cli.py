@@ -13,8 +13,8 @@ May import: anything in imunav (a face of the package).
 from __future__ import annotations
 
 import argparse
-import collections
 import os
+import re
 import signal
 import sys
 import warnings
@@ -31,8 +31,6 @@ from imunav.io import realdata
 from imunav.io.files import (
     ROW_BYTES,
     SignalFile,
-    format_allan,
-    imu_toml,
     load_motion,
     read_initial_state,
     read_signals,
@@ -46,11 +44,12 @@ from imunav.io.paths import check_outputs
 from imunav.plotting import plot_allan
 from imunav.reproduce import format_table, reproduce_all
 from imunav.sensors.allan import fit_allan
+from imunav.sensors.allan_report import format_allan, imu_toml
 from imunav.sensors.models import ImuModel
 from imunav.sensors.presets import PRESETS
-from imunav.sensors.simulate import ideal_chunks, interval_count, measured_chunks
+from imunav.sensors.simulate import interval_count, signal_chunks, truth_chunks
 from imunav.strapdown.alignment import level_attitude
-from imunav.strapdown.registry import ALGORITHMS, StreamNavigator, navigate, resolve
+from imunav.strapdown.registry import ALGORITHMS, navigate, navigate_chunks, resolve
 
 
 class _Parser(argparse.ArgumentParser):
@@ -210,12 +209,9 @@ def cmd_simulate(args) -> int:
     if args.truth:
         check_disk(out["--truth"], (n + 1) * ROW_BYTES["states"], "--truth")
     clipped = [0]
-    if model is None:
-        chunks = ideal_chunks(motion, args.rate, duration, output=args.output, g=g)
-    else:
-        chunks = measured_chunks(motion, model, args.rate, duration, output=args.output, g=g,
-                                 seed=args.seed,
-                                 on_clip=lambda c: clipped.__setitem__(0, clipped[0] + c))
+    chunks = signal_chunks(motion, args.rate, duration, output=args.output, g=g, imu=model,
+                           seed=args.seed,
+                           on_clip=lambda c: clipped.__setitem__(0, clipped[0] + c))
     rows = 0
     with signals_writer(out["--out"], args.output) as w:
         for t, gyro, accel in chunks:
@@ -223,14 +219,12 @@ def cmd_simulate(args) -> int:
             rows += t.size
         if args.truth:
             with states_writer(out["--truth"]) as tw:
-                for lo in range(0, n + 1, 1 << 16):
-                    t = np.arange(lo, min(n + 1, lo + (1 << 16))) / args.rate
-                    st = motion.states(t)
+                for st in truth_chunks(motion, args.rate, duration):
                     tw.write([st.t, st.position, st.velocity, st.quaternion])
     if clipped[0]:
         print(f"imunav: warning: {clipped[0]} samples clipped at the sensor range",
               file=sys.stderr)
-    offset = getattr(motion, "time_offset", 0.0)
+    offset = motion.time_offset
     note = (f" (t = 0 is the first pose or waypoint, t = {offset:g} s in {args.motion})"
             if offset else "")
     print(f"wrote {rows} {args.output} rows at {args.rate:g} Hz to {args.out}{note}")
@@ -313,31 +307,13 @@ def cmd_navigate(args) -> int:
                           f"signals start at t = {f.t0:.9g} s")
     check_disk(out["--out"], 1.7 * Path(args.signals).stat().st_size, "this navigation")
     q0, v0, p0 = init.initial()
-    algo = resolve(f.kind, args.algorithm)
-    nav = StreamNavigator(f.kind, f.rate, q0, v0, p0, f.g, algorithm=algo.name, t0=f.t0)
-    times = collections.deque()                      # times of the nodes still to come out
-    rows = 0
-
-    def emit(w, parts):
-        nonlocal rows
-        for q, v, p in parts:
-            t = np.array([times.popleft() for _ in range(len(q))])
-            w.write([t, p, v, q])
-            rows += len(q)
-
+    rows, algo = 0, resolve(f.kind, args.algorithm).name
     with states_writer(out["--out"]) as w:
-        w.write([np.array([f.t0]), p0[None], v0[None], (q0 / np.linalg.norm(q0))[None]])
-        rows += 1
-        skip = 1 if f.kind == "rates" else 0         # a rate file's first sample is node 0
-        for t, gyro, accel in f.chunks():
-            times.extend(t[skip:].tolist())
-            skip = 0
-            emit(w, nav.feed(gyro, accel))
-        if f.rows < algo.min_samples:
-            raise ImunavError(f"{args.signals}: {f.kind} signals need at least "
-                              f"{algo.min_samples} rows")
-        emit(w, nav.finish())
-    print(f"wrote {rows} navigation rows ({algo.name}) to {args.out}")
+        for st in navigate_chunks(f.kind, f.rate, f.chunks(), q0, v0, p0, f.g,
+                                  algorithm=algo, t0=f.t0):
+            w.write([st.t, st.position, st.velocity, st.quaternion])
+            rows += len(st)
+    print(f"wrote {rows} navigation rows ({algo}) to {args.out}")
     return 0
 
 
@@ -412,6 +388,34 @@ def main(argv: list[str] | None = None) -> int:
             signal.signal(signal.SIGTERM, previous)
 
 
+#: The library's argument names and the options that set them: a library error names the
+#: argument in the library's terms (``imu``), the command line shows its flag (``--imu``).
+FLAGS = {"imu": "--imu", "smoothing": "--smoothing", "attitude_smoothing": "--attitude-smoothing",
+         "scheduler": "--scheduler", "runs": "--runs", "seed": "--seed", "rate": "--rate",
+         "tolerance": "--tolerance", "algorithm": "--algorithm", "initial": "--initial"}
+
+
+def flagged(exc: ImunavError) -> str:
+    """The message of a library error with each argument it names (``exc.argument``) written
+    as the command-line option that sets it (:data:`FLAGS`).
+
+    Parameters
+    ----------
+    exc : ImunavError
+
+    Returns
+    -------
+    str
+    """
+    message = str(exc)
+    names = exc.argument if isinstance(exc.argument, tuple) else (exc.argument,)
+    for name in names:
+        if name in FLAGS:
+            message = re.sub(rf"(?<![\w-]){re.escape(name)}(?![\w-])", FLAGS[name], message,
+                             count=1)
+    return message
+
+
 def _run(command, args) -> int:
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore", RuntimeWarning)      # numeric noise: checked values
@@ -419,7 +423,7 @@ def _run(command, args) -> int:
         try:
             return command(args)
         except ImunavError as exc:
-            print(f"imunav: error: {exc}", file=sys.stderr)
+            print(f"imunav: error: {flagged(exc)}", file=sys.stderr)
             return 2
         except BrokenPipeError:                              # `imunav … | head`: not an error
             try:

@@ -10,7 +10,6 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from imunav import ImunavError, Motion, navigate, simulate_imu
-from imunav.analysis.covariance import Trajectory, propagate, terms_of
 from imunav.analysis.family import (
     coning_correction_budget,
     convergence,
@@ -24,7 +23,6 @@ from imunav.analysis.roundtrip import FLOOR_ATT, FLOOR_POS, _order, error_table,
 from imunav.core.states import States
 from imunav.core.validation import check_time
 from imunav.motion.catalog import coning, figure_eight
-from imunav.sensors.models import TriadModel
 from imunav.strapdown import ALGORITHMS
 
 # Moves along and turns about all three axes (as in test_strapdown), shortened to 4 s.
@@ -271,18 +269,6 @@ def test_check_time_messages():
         check_time([2, 0.5, 3], "time")
     with pytest.raises(ImunavError, match="time"):
         check_time([[0, 1]], "time")
-
-
-def test_propagate_one_term_is_the_closed_form():
-    # gyro bias b on a level, still IMU: attitude σ = b·t on every axis (Titterton & Weston)
-    b = 1e-4
-    traj = Trajectory.of(Motion(duration=5.0), 100.0, 5.0)
-    (term,) = terms_of(TriadModel(bias=b), "gyro", traj, "rates")
-    P = propagate(term, traj)
-    t = np.arange(P.shape[0]) / 100.0
-    assert P.shape == (501, 9, 9)
-    np.testing.assert_allclose(np.sqrt(np.diagonal(P[1:, 0:3, 0:3], axis1=-2, axis2=-1)),
-                               np.stack([b * t[1:]] * 3, -1), rtol=1e-12)
 
 
 def test_nav_errors_against_states_truth_and_hand_values():

@@ -14,8 +14,9 @@ from imunav.analysis.montecarlo import monte_carlo
 from imunav.core.constants import G0
 from imunav.core.kernels import quat_angle
 from imunav.motion.catalog import figure_eight
-from imunav.sensors.models import ImuModel, TriadModel, bias_instability_sigma, measure
+from imunav.sensors.models import ImuModel, TriadModel, measure
 from imunav.sensors.simulate import simulate_imu
+from imunav.sensors.terms import bias_instability_sigma
 from imunav.strapdown.registry import navigate_batch
 
 STILL = Motion(duration=20.0, name="still")
@@ -349,28 +350,11 @@ def test_norm_cdf_batches_and_non_positive_radius():
                                rtol=1e-12)
 
 
-@pytest.mark.parametrize("d", [0.0, 1e-6, -3e-4, 0.049, -0.049, 0.051, 0.5, -2.0, 24.0, 26.0,
-                               -24.0, -26.0, -40.0, -400.0])
-def test_phi_functions_against_quadrature(d):
-    """φ_i(d) = ∫_0^h (h−s)^i/i! e^{d s} ds by scipy quad, to 1e-13, on both sides of the switch
-    from the series to the closed form (|d·h| = 0.5) and where the old switch (1e-3) was: the
-    closed form for φ2 had lost 7 digits there (1.5e-7 at d·h = 1.02e-3), found by this test
-    once pytest.approx's default abs=1e-12 no longer hid it."""
-    from imunav.analysis.covariance import _phi_functions
-
-    h = 0.02
-    got = _phi_functions(np.array([d]), h)
-    for i, fact in enumerate((1, 1, 2)):
-        want = quad(lambda s, i=i, fact=fact: (h - s) ** i / fact * np.exp(d * s), 0, h,
-                    epsabs=0, epsrel=1e-13)[0]
-        assert got[i][0] == pytest.approx(want, rel=1e-13, abs=0), i   # (approx adds abs=1e-12)
-
-
 def test_aliasing_gain_cases():
     from scipy.signal import butter, freqz
 
-    from imunav.analysis.covariance import aliasing_gain
     from imunav.sensors.models import TriadModel
+    from imunav.sensors.terms import aliasing_gain
 
     plain, filt = TriadModel(noise_density=1e-3), TriadModel(noise_density=1e-3, bandwidth=30.0)
     assert aliasing_gain(filt, 100.0, 8, "increments") == 1.0     # increments integrate: no fold
@@ -384,15 +368,6 @@ def test_aliasing_gain_cases():
     h2 = np.abs(freqz(b, a, worN=np.arange(8) * 100.0, fs=800.0)[1]) ** 2
     assert aliasing_gain(filt, 100.0, 8, "rates") == pytest.approx(np.sqrt(h2.sum()), rel=1e-10)
     assert 1.0 < aliasing_gain(filt, 100.0, 8, "rates") < 1.1
-
-
-def test_cross_matrix_is_the_cross_product():
-    from imunav.analysis.covariance import _cross_matrix
-
-    v = np.random.default_rng(2).normal(size=(4, 3))
-    u = np.random.default_rng(3).normal(size=(4, 3))
-    np.testing.assert_allclose(np.einsum("nij,nj->ni", _cross_matrix(v), u), np.cross(v, u),
-                               atol=1e-15)
 
 
 def test_other_gravity_and_the_range_warnings():

@@ -2,7 +2,6 @@
 fitted from a static log's Allan deviation."""
 
 import json
-from dataclasses import fields, replace
 
 import numpy as np
 import pytest
@@ -51,8 +50,8 @@ def test_design_limits_match_closed_forms():
 def _scaled(model: ImuModel, s: float) -> ImuModel:
     def tri(m: TriadModel) -> TriadModel:
         keep = {"range", "bandwidth", "internal_rate", "bias_correlation_time"}
-        return replace(m, **{f.name: getattr(m, f.name) * s for f in fields(m)
-                             if f.name not in keep and getattr(m, f.name)})
+        return TriadModel(**{k: (v * s if k not in keep and v else v)
+                             for k, v in m.values().items()})
     return ImuModel(tri(model.gyro), tri(model.accel), f"{model.name}×{s:g}")
 
 

@@ -3,6 +3,10 @@ spread over many runs and by ``y = M·x`` with noise off; bias instability by th
 Gauss–Markov Allan peak; the Allan curves of the presets by the closed forms of each noise
 (white N/√τ, rate random walk K√(τ/3), flat flicker floor), written out here.
 
+And one authority per term (issue 24): a toy term defined in this file alone is parsed with its
+units, simulated, linearised, assessed and shown; every registered term has a linearisation;
+a term that forgets it fails the covariance analysis instead of being ignored.
+
 Statistical tolerances come from the sampling error of the estimate (stated at each test) and
 use fixed seeds.
 """
@@ -10,10 +14,13 @@ use fixed seeds.
 import numpy as np
 import pytest
 
-from imunav.core.units import parse
+from imunav import ImunavError
+from imunav.core import units
+from imunav.sensors import terms
 from imunav.sensors.allan import allan_deviation
 from imunav.sensors.models import ImuModel, MeasureStream, TriadModel, TriadStream
 from imunav.sensors.presets import PRESETS
+from imunav.sensors.terms import Parameter, SensorErrorStates, Term, parse
 
 RUNS = 3000          # spread of a std over 3000 runs × 3 axes: 1/√(2·9000) = 0.75 % (1σ)
 
@@ -124,3 +131,154 @@ def test_preset_allan_curves_match_the_closed_forms(preset, triad):
     # everywhere: between 0.75 and 1.25 of the sum of the closed forms (the flicker bank's
     # floor is only approximately flat: ±15 %; statistics at τ = 100 s of a 2 h record: ±10 %)
     np.testing.assert_allclose(got, _closed_form_adev(m, taus), rtol=0.25)
+
+
+# ------------------------------------------------------------- one authority per term (issue 24)
+
+
+class ThermalDrift(Term):
+    """A toy term defined here and nowhere else: a first-order Gauss–Markov bias with a fixed
+    20 s time constant, 1σ = the value (a warm-up drift)."""
+
+    name, stage = "thermal_drift", "drift"
+    T = 20.0
+    parameters_ = (Parameter("thermal_drift", {"gyro": units.RATE, "accel": units.ACCEL},
+                             {"gyro": "thermal drift (1σ)", "accel": "thermal drift (1σ)"}),)
+    display = {"gyro": ("deg/h", "°/h", "rad/s"), "accel": ("mg", "mg", "m/s²")}
+
+    def start(self, model, stream, rng):
+        child = rng.spawn(1)[0]
+        return [child, child.normal(0.0, model.thermal_drift, 3)]
+
+    def add_drift(self, model, state, stream, drift):
+        a = np.exp(-stream.dt / self.T)
+        w = state[0].normal(0.0, model.thermal_drift * np.sqrt(1 - a * a), drift.shape)
+        x = state[1]
+        for i in range(drift.shape[0]):
+            x = a * x + w[i]
+            drift[i] += x
+        state[1] = x
+
+    def linearise(self, model, ctx):
+        s = model.thermal_drift
+        if not s:
+            return []
+        return [SensorErrorStates(f"{ctx.triad}.{self.name}", ctx.triad, np.full(3, -1 / self.T),
+                                  s * s * np.eye(3), np.full(3, 2 * s * s / self.T),
+                                  lambda u, f: np.broadcast_to(np.eye(3), (u.shape[0], 3, 3)))]
+
+
+@pytest.fixture
+def thermal_drift():
+    term = terms.register(ThermalDrift())
+    try:
+        yield term
+    finally:
+        terms.unregister(term.name)
+
+
+def test_a_term_defined_in_a_test_is_parsed_simulated_linearised_assessed_and_shown(
+        thermal_drift):
+    from imunav import assess_covariance, covariance, design, format_design, monte_carlo
+    from imunav.motion.catalog import stationary
+    from imunav.sensors.simulate import simulate_imu
+
+    # parsed, with its units, from an IMU file's table
+    model = ImuModel.from_dict({"gyro": {"thermal_drift": "50 deg/h"}}, "warm")
+    s = np.radians(50) / 3600
+    assert model.gyro.thermal_drift == pytest.approx(s, rel=1e-14)
+    assert model.terms() == ["gyro.thermal_drift"]
+    with pytest.raises(ImunavError, match="not a unit of thermal drift"):
+        ImuModel.from_dict({"gyro": {"thermal_drift": "50 m/s"}})
+    # simulated: std σ and lag-1 correlation e^{−h/T} (20 000 s = 1000 T: ±2.5 % on the std)
+    motion, rate = stationary(duration=20_000.0), 2.0
+    ideal = simulate_imu(motion, rate, output="rates")
+    err = simulate_imu(motion, rate, output="rates", imu=model, seed=1).gyro - ideal.gyro
+    assert np.std(err) == pytest.approx(s, rel=0.08)
+    r1 = np.mean([np.corrcoef(err[:-1, i], err[1:, i])[0, 1] for i in range(3)])
+    assert r1 == pytest.approx(np.exp(-1 / (rate * thermal_drift.T)), abs=0.01)
+    # linearised: on a level, still IMU the attitude error of a stationary Gauss–Markov bias has
+    # variance 2σ²T²(t/T − 1 + e^{−t/T}) per axis (the integral of its autocovariance)
+    short = stationary(duration=60.0)
+    cov = covariance(short, model, 10.0)
+    assert list(cov.terms) == ["gyro.thermal_drift"]
+    t, T = cov.t, thermal_drift.T
+    want = 2 * s * s * T * T * (t / T - 1 + np.exp(-t / T))
+    np.testing.assert_allclose(cov.total[:, 0, 0], want, rtol=1e-9, atol=1e-30)
+    # assessed: covariance and Monte Carlo agree on the final attitude error (300 runs: the
+    # p95 of a χ₃-like norm is known to ±6 %)
+    mc = monte_carlo(short, model, 10.0, runs=300, seed=3, progress=False)
+    assert np.percentile(mc.attitude[:, -1], 95) == pytest.approx(
+        float(cov.attitude_quantile(index=-1)), rel=0.12)
+    r = assess_covariance(short, model, 10.0, tolerance=1.0)
+    assert list(r["error_budget"]) == ["gyro.thermal_drift"]
+    # shown in its datasheet unit by design
+    d = design(short, model, 10.0, tolerance=1.0)
+    assert d["terms"]["gyro.thermal_drift"]["base"] == "50 deg/h"
+    assert "gyro.thermal_drift" in format_design(d)
+
+
+def test_the_toy_term_is_gone_once_unregistered(thermal_drift):
+    terms.unregister(thermal_drift.name)
+    try:
+        with pytest.raises(TypeError, match="thermal_drift"):
+            TriadModel(thermal_drift=1.0)
+        with pytest.raises(ImunavError, match="unknown key"):
+            ImuModel.from_dict({"gyro": {"thermal_drift": 1.0}})
+    finally:
+        terms.register(thermal_drift)
+
+
+@pytest.mark.parametrize("name", list(terms.TERMS))
+def test_every_term_realised_in_the_simulation_has_a_linearisation(name):
+    """Each registered term says how it enters the error model (states, white noise, or —
+    range, filter, internal rate — explicitly nothing, with a warning where the motion leaves
+    the linear model), and is shown in a datasheet unit if it is an error with states."""
+    term = terms.TERMS[name]
+    assert type(term).linearise is not Term.linearise, f"{name} has no linearisation"
+    assert term.stage in terms.STAGES
+    for triad in term.triads:
+        params = {p.key: (1e-3 if p.default == 0.0 else 10.0) for p in term.parameters_}
+        m = TriadModel(**params)
+        ctx = terms.LinearisationContext(triad, 0.01, "increments", 1, peak=1e9)
+        out = term.linearise(m, ctx)
+        assert isinstance(out, list)
+        if term.linear:
+            assert out, f"{name} is linear but gave no error states"
+            assert term.show(1e-3, triad)                 # it has a datasheet unit
+        else:
+            assert not out
+
+
+def test_a_term_without_a_linearisation_fails_loudly_in_the_covariance():
+    """The default assess must not silently ignore a term it cannot linearise."""
+    from imunav import covariance
+    from imunav.motion.catalog import stationary
+
+    class Forgotten(ThermalDrift):
+        name = "forgotten"
+        parameters_ = (Parameter("forgotten", {"gyro": units.RATE, "accel": units.ACCEL},
+                                 {"gyro": "x", "accel": "x"}),)
+        linearise = Term.linearise
+
+        def start(self, model, stream, rng):
+            return [rng.spawn(1)[0], np.zeros(3)]
+
+    terms.register(Forgotten())
+    try:
+        model = ImuModel(TriadModel(forgotten=1e-3), TriadModel())
+        with pytest.raises(NotImplementedError, match="forgotten"):
+            covariance(stationary(duration=1.0), model, 10.0)
+    finally:
+        terms.unregister("forgotten")
+
+
+def test_register_refuses_a_clash_and_an_unknown_stage():
+    with pytest.raises(ImunavError, match="registered already"):
+        terms.register(terms.TERMS["bias"])
+
+    class Odd(ThermalDrift):
+        name, stage = "odd", "somewhere"
+
+    with pytest.raises(ImunavError, match="stage must be one of"):
+        terms.register(Odd())

@@ -8,9 +8,9 @@ import pytest
 from imunav import ImunavError, Motion
 from imunav.analysis.assessment import assess
 from imunav.analysis.montecarlo import monte_carlo
-from imunav.core.units import parse
 from imunav.sensors.allan import allan_deviation
 from imunav.sensors.models import ImuModel, TriadModel, apply_triad, measure
+from imunav.sensors.terms import parse
 
 
 @pytest.mark.parametrize("value, key, si", [

@@ -14,30 +14,31 @@ from __future__ import annotations
 
 from imunav.analysis.assessment import PERCENTILE, SUITABLE_FRACTION, min_sample_rate
 from imunav.analysis.covariance import Trajectory, covariance
-from imunav.core.units import SPEC
 from imunav.core.validation import check_positive
 from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import ImuModel
 from imunav.sensors.presets import PRESETS
+from imunav.sensors.terms import TERMS
 
-#: The datasheet unit each limit is quoted in.
-DISPLAY_UNITS = {
-    "gyro.noise_density": "deg/sqrt(h)", "accel.noise_density": "ug/sqrt(Hz)",
-    "gyro.bias": "deg/h", "accel.bias": "mg",
-    "gyro.bias_instability": "deg/h", "accel.bias_instability": "ug",
-    "gyro.random_walk": "deg/h/sqrt(h)", "accel.random_walk": "m/s/h/sqrt(h)",
-    "gyro.scale_factor": "ppm", "accel.scale_factor": "ppm",
-    "gyro.misalignment": "mrad", "accel.misalignment": "mrad",
-    "gyro.g_sensitivity": "deg/h/g",
-    "gyro.resolution": "deg/s", "accel.resolution": "mg",
-}
+__all__ = ["design", "format_design", "in_datasheet_units"]
 
 
 def in_datasheet_units(term: str, si: float) -> str:
-    """``"0.12 deg/sqrt(h)"``: an SI value of ``term`` in its usual datasheet unit."""
+    """``"0.12 deg/sqrt(h)"``: an SI value of ``term`` (``"gyro.noise_density"``) in the
+    datasheet unit its :class:`~imunav.sensors.terms.Term` is shown in.
+
+    Parameters
+    ----------
+    term : str
+        ``"<triad>.<term>"``.
+    si : float
+
+    Returns
+    -------
+    str
+    """
     triad, _, name = term.partition(".")
-    unit = DISPLAY_UNITS[term]
-    return f"{si / SPEC[triad][name][0][unit]:.3g} {unit}"
+    return TERMS[name].show(si, triad)
 
 
 def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
@@ -72,7 +73,7 @@ def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
                         "warnings": pc.warnings})
     presets.sort(key=lambda r: r["final_p95_position_m"])
     return {
-        "motion": getattr(motion, "name", "motion"), "imu": base.name, "rate_hz": float(rate),
+        "motion": motion.name, "imu": base.name, "rate_hz": float(rate),
         "tolerance_m": tolerance,
         "terms": terms,
         "common_scale": (tolerance / worst_total) if worst_total > 0 else None,

@@ -17,7 +17,21 @@ import numpy.typing as npt
 
 
 class ImunavError(ValueError):
-    """Bad input to imunav: the message names the argument and what was expected."""
+    """Bad input to imunav: the message names the argument and what was expected.
+
+    Parameters
+    ----------
+    message : str
+        What is wrong, in the library's terms: it starts with the argument's name where one is
+        at fault (``"imu 'x' is neither a preset …"``).
+    argument : str or tuple of str, optional
+        The name(s) of the argument(s) at fault, as they appear in the message: a face (the
+        command line) replaces each by its own spelling (``imu`` → ``--imu``).
+    """
+
+    def __init__(self, message: str = "", *, argument: str | tuple[str, ...] | None = None):
+        super().__init__(message)
+        self.argument = argument
 
 
 def as_float_array(x: npt.ArrayLike, name: str, *, last: int | None = None,

@@ -35,6 +35,7 @@ from imunav.core.validation import ImunavError, check_gravity, check_positive, r
 from imunav.io.csvio import CsvWriter, atomic_write_text, first_row, read_chunks, read_header
 from imunav.motion.analytic import Motion
 from imunav.motion.base import BaseMotion
+from imunav.motion.trajectory import ORIENTATIONS, PoseMotion, WaypointMotion
 from imunav.sensors.signals import ImuSignals
 
 RATES_HEADER = ("t", "gx", "gy", "gz", "ax", "ay", "az")
@@ -83,7 +84,8 @@ def load_motion(path: str | Path, *, smoothing: float | None = None,
     if path.suffix.lower() == ".csv":
         return load_poses(path, smoothing=smoothing, attitude_smoothing=attitude_smoothing)
     if smoothing is not None or attitude_smoothing is not None:
-        raise ImunavError("--smoothing and --attitude-smoothing apply to pose CSV files only")
+        raise ImunavError("smoothing and attitude_smoothing apply to pose CSV files only",
+                          argument=("smoothing", "attitude_smoothing"))
     spec = read_toml(path, "motion file")
     if "waypoint" in spec:
         return load_waypoints(path, spec)
@@ -93,8 +95,6 @@ def load_motion(path: str | Path, *, smoothing: float | None = None,
 def load_poses(path: str | Path, *, smoothing: float | None = None,
                attitude_smoothing: float | None = None) -> tuple[BaseMotion, float, None]:
     """A pose CSV (``t,x,y,z,qw,qx,qy,qz``, or a truth CSV whose velocities are ignored)."""
-    from imunav.motion.trajectory import PoseMotion
-
     path = Path(path)
     header = read_header(path, "pose")
     if header not in (POSE_HEADER, STATE_HEADER):
@@ -127,8 +127,6 @@ def load_waypoints(path: str | Path, spec: dict | None = None
     """A waypoints TOML: ``[[waypoint]]`` tables with ``t``, ``x``, ``y``, ``z`` (s, m, NED) and
     optional ``yaw``, ``pitch``, ``roll`` (rad), plus top-level ``orientation = "given" |
     "follow"`` (default given) and optional ``g`` (m/s²) and ``name``."""
-    from imunav.motion.trajectory import ORIENTATIONS, WaypointMotion
-
     path = Path(path)
     spec = read_toml(path, "waypoints file") if spec is None else spec
     bad = sorted(set(spec) - WAYPOINT_TOP)
@@ -353,60 +351,3 @@ def save_figure(fig, path: str | Path, **kw) -> None:
         os.replace(tmp, path)
     finally:
         Path(tmp).unlink(missing_ok=True)
-
-
-#: How the fitted terms are written: SI unit, and the datasheet unit shown beside it.
-_ALLAN_UNITS = {
-    ("gyro", "noise_density"): ("rad/s/√Hz (= rad/√s)", "deg/sqrt(h)", "deg/√h"),
-    ("gyro", "bias_instability"): ("rad/s", "deg/h", "°/h"),
-    ("gyro", "random_walk"): ("rad/s/√s", "deg/h/sqrt(h)", "°/h/√h"),
-    ("accel", "noise_density"): ("m/s²/√Hz (= m/s/√s)", "ug/sqrt(Hz)", "µg/√Hz"),
-    ("accel", "bias_instability"): ("m/s²", "ug", "µg"),
-    ("accel", "random_walk"): ("m/s²/√s", "m/s/h/sqrt(h)", "m/s/h/√h"),
-}
-
-
-def _datasheet(triad: str, name: str, si: float) -> str:
-    from imunav.core.units import SPEC
-
-    _, unit, shown = _ALLAN_UNITS[triad, name]
-    return f"{si / SPEC[triad][name][0][unit]:.4g} {shown}"
-
-
-def imu_toml(fits: dict, source: str) -> str:
-    """The ``IMU.toml`` text of Allan fits (:func:`imunav.sensors.allan.fit_allan` per triad):
-    SI numbers, each with its unit, its datasheet equivalent and the τ range it was fitted on
-    in a comment; terms the record cannot determine are left out, with the reason."""
-    f0 = next(iter(fits.values()))
-    lines = [f"# Fitted by `imunav allan` from {source}: a static record of "
-             f"{f0['samples'] / f0['rate']:.6g} s at {f0['rate']:.6g} Hz.",
-             "# Model of the overlapping Allan variance: σ²(τ) = N²/τ + B² + K²τ/3, fitted by",
-             "# weighted least squares (each τ weighted by its degrees of freedom). B is the Allan",
-             "# floor, as datasheets quote bias instability (the IEEE 952 flicker coefficient is",
-             "# B/0.664). Values are SI; ± is the Allan deviation's sampling error where the term",
-             "# dominates.",
-             'name = "fitted"']
-    for triad, fit in fits.items():
-        lines.append(f"\n[{triad}]")
-        for name, term in fit["terms"].items():
-            if term["value"] is None:
-                lines.append(f"# {name}: not determined — {term['why']}")
-                continue
-            unit = _ALLAN_UNITS[triad, name][0]
-            lo, hi = term["tau_range"]
-            lines.append(f"{name} = {term['value']:.6e}   # {unit} ± {term['se']:.2g}, "
-                         f"= {_datasheet(triad, name, term['value'])}; τ = {lo:.3g}–{hi:.3g} s")
-    return "\n".join(lines) + "\n"
-
-
-def format_allan(fits: dict, path) -> str:
-    lines = [f"Allan fits (weighted least squares; written to {path}):"]
-    for triad, fit in fits.items():
-        for name, term in fit["terms"].items():
-            if term["value"] is None:
-                lines.append(f"  {triad + '.' + name:24s} not determined: {term['why']}")
-            else:
-                lo, hi = term["tau_range"]
-                lines.append(f"  {triad + '.' + name:24s} {_datasheet(triad, name, term['value']):>16s}"
-                             f"  ± {100 * term['se'] / term['value']:.1f} %   (τ {lo:.3g}–{hi:.3g} s)")
-    return "\n".join(lines)

@@ -3,7 +3,8 @@ errors.
 
 Modules: :mod:`~imunav.sensors.signals` (:class:`ImuSignals`), :mod:`~imunav.sensors.simulate`
 (ideal rates and exact increments), :mod:`~imunav.sensors.models` (error models from
-datasheets), :mod:`~imunav.sensors.presets`, :mod:`~imunav.sensors.allan`.
+datasheets), :mod:`~imunav.sensors.terms` (the error terms: units, realisation,
+linearisation), :mod:`~imunav.sensors.presets`, :mod:`~imunav.sensors.allan`.
 
 May import: ``imunav.core``, ``imunav.motion``.
 """
@@ -15,15 +16,15 @@ from imunav.sensors.models import (
     TriadModel,
     TriadStream,
     apply_triad,
-    bias_instability_sigma,
     measure,
 )
 from imunav.sensors.presets import PRESETS
 from imunav.sensors.quadrature import integrate_consecutive, integrate_intervals
 from imunav.sensors.signals import KINDS, ImuSignals
 from imunav.sensors.simulate import sample_times, simulate_imu, truth_states
+from imunav.sensors.terms import TERMS, Term, bias_instability_sigma, register
 
-__all__ = ["KINDS", "PRESETS", "ImuModel", "ImuSignals", "MeasureStream", "TriadModel",
+__all__ = ["KINDS", "PRESETS", "TERMS", "ImuModel", "ImuSignals", "MeasureStream", "TriadModel",
            "TriadStream", "allan_deviation", "apply_triad", "bias_instability_sigma", "fit_allan",
            "gauss_markov_allan_variance", "integrate_consecutive", "integrate_intervals",
-           "measure", "sample_times", "simulate_imu", "truth_states"]
+           "measure", "register", "sample_times", "simulate_imu", "Term", "truth_states"]

@@ -1,67 +1,121 @@
-"""Sensor error models from datasheets, applied to ideal rates or increments.
+"""Sensor error models from datasheets, and their application to ideal rates or increments.
 
-One :class:`TriadModel` per sensor triad (gyro, accel); every term optional (0/None = absent):
-
-=====================  ==================================================================
-noise_density          white noise, N (rad/s/√Hz or m/s²/√Hz); Allan σ(τ) = N/√τ
-bias                   turn-on bias, 1σ per axis, drawn once per run
-bias_instability       Allan-deviation floor B; Gauss–Markov with ``bias_correlation_time``,
-                       else flicker (1/f) from a bank of Gauss–Markov processes (0.3–3000 s)
-random_walk            rate/acceleration random walk K; Allan σ(τ) = K √(τ/3)
-scale_factor           1σ per axis, drawn once per run
-misalignment           1σ cross-axis coupling (rad), drawn once per run (6 off-diagonal terms)
-g_sensitivity          gyro only: ω += G f_b, G 1σ per axis-pair, drawn once per run
-range                  saturation (clipped, flagged)
-resolution             quantisation step (rate units); increments carry the residual
-bandwidth              2nd-order Butterworth low-pass at the internal rate
-internal_rate          the sensor samples and filters internally at this rate, then decimates
-=====================  ==================================================================
+One :class:`TriadModel` per sensor triad (gyro, accel) holds the values of the error terms of
+:mod:`imunav.sensors.terms` (every term optional; 0/None = absent); an :class:`ImuModel` pairs
+two. :class:`TriadStream` runs one triad's terms on ideal samples fed in chunks: the pipeline of
+:data:`~imunav.sensors.terms.STAGES`, each term doing its own step.
 
 Randomness: each run draws from its own stream ``SeedSequence(seed).spawn(runs)[r]``, so a run
 is reproducible bit for bit whatever the chunking, and runs are independent.
 
-May import: ``imunav.core``, ``imunav.sensors.allan``, ``imunav.sensors.presets``.
+May import: ``imunav.core``, ``imunav.sensors.allan``, ``imunav.sensors.presets``,
+``imunav.sensors.terms``.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields, replace
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from imunav.core.rotations import FloatArray
-from imunav.core.units import SPEC, parse
+from imunav.core.kernels import FloatArray
 from imunav.core.validation import ImunavError, check_positive, read_toml
-from imunav.sensors.allan import gauss_markov_allan_variance
+from imunav.sensors.presets import PRESETS
+from imunav.sensors.terms import DRAW_ORDER, TERMS, TRIADS, parameters, parse
 
-TERMS = ("noise_density", "bias", "bias_instability", "random_walk", "scale_factor",
-         "misalignment", "g_sensitivity", "range", "resolution", "bandwidth")
+__all__ = ["ImuModel", "MeasureStream", "TriadModel", "TriadStream", "apply_triad", "measure"]
 
 
-@dataclass(frozen=True)
+def _known() -> dict[str, object]:
+    """Every parameter key of every registered term (either triad) → its default."""
+    return {key: p.default for triad in TRIADS for key, (_, p) in parameters(triad).items()}
+
+
 class TriadModel:
-    """Error parameters of one triad, in SI (see the module docstring)."""
+    """Error parameters of one triad, in SI: one value per parameter of the registered terms
+    (:data:`~imunav.sensors.terms.TERMS`), absent ones at their default (0 or None).
 
-    noise_density: float = 0.0
-    bias: float = 0.0
-    bias_instability: float = 0.0
-    bias_correlation_time: float | None = None
-    random_walk: float = 0.0
-    scale_factor: float = 0.0
-    misalignment: float = 0.0
-    g_sensitivity: float = 0.0
-    range: float | None = None
-    resolution: float | None = None
-    bandwidth: float | None = None
-    internal_rate: float | None = None
+    ``TriadModel(noise_density=2e-4, bias=1e-3)``; attributes read the values
+    (``m.noise_density``). Immutable, hashable, compared by value.
+
+    Parameters
+    ----------
+    **values : float or None
+        SI values keyed by parameter (``noise_density``, ``bias_correlation_time``, …).
+
+    Raises
+    ------
+    TypeError
+        For a keyword that is no parameter of any registered term.
+    """
+
+    __slots__ = ("_values",)
+
+    def __init__(self, **values):
+        known = _known()
+        bad = sorted(set(values) - set(known))
+        if bad:
+            raise TypeError(f"TriadModel got unexpected keyword argument(s) {', '.join(bad)}; "
+                            f"parameters are {', '.join(known)}")
+        object.__setattr__(self, "_values", dict(values))
+
+    def __getattr__(self, name: str):
+        if name.startswith("_"):
+            raise AttributeError(name)
+        known = _known()
+        if name not in known:
+            raise AttributeError(f"TriadModel has no parameter {name!r}")
+        return self._values.get(name, known[name])
+
+    def __setattr__(self, name, value):
+        raise AttributeError("TriadModel is immutable: build a new one")
+
+    def _key(self) -> tuple:
+        return tuple((k, getattr(self, k)) for k in sorted(_known()))
+
+    def __eq__(self, other):
+        return isinstance(other, TriadModel) and self._key() == other._key()
+
+    def __hash__(self):
+        return hash(self._key())
+
+    def __reduce__(self):
+        return (_triad_model, (tuple(self._values.items()),))
+
+    def __repr__(self):
+        known = _known()
+        shown = ", ".join(f"{k}={v!r}" for k, v in self._values.items() if v != known[k])
+        return f"TriadModel({shown})"
+
+    def values(self) -> dict[str, float | None]:
+        """Every parameter and its value (defaults included), in registry order."""
+        return {k: getattr(self, k) for k in _known()}
 
     @classmethod
-    def from_dict(cls, d: dict, triad: str) -> TriadModel:
-        """Parse ``{"noise_density": "0.014 deg/s/sqrt(Hz)", …}`` (numbers are SI)."""
+    def from_dict(cls, d: Mapping, triad: str) -> TriadModel:
+        """Parse ``{"noise_density": "0.014 deg/s/sqrt(Hz)", …}`` (numbers are SI).
+
+        Parameters
+        ----------
+        d : dict
+            The ``[gyro]`` or ``[accel]`` table of an ``IMU.toml``.
+        triad : {"gyro", "accel"}
+
+        Returns
+        -------
+        TriadModel
+
+        Raises
+        ------
+        ImunavError
+            For a table that is not a table, an unknown key, or a value
+            :func:`~imunav.sensors.terms.parse` refuses.
+        """
         if not isinstance(d, dict):
             raise ImunavError(f"[{triad}] must be a table")
-        allowed = set(SPEC[triad])
+        allowed = set(parameters(triad))
         bad = sorted(set(d) - allowed)
         if bad:
             raise ImunavError(f"unknown key(s) in [{triad}]: {', '.join(bad)}; expected "
@@ -69,14 +123,20 @@ class TriadModel:
         return cls(**{k: parse(v, f"{triad}.{k}") for k, v in d.items()})
 
     def active(self) -> list[str]:
-        """The error terms present."""
-        return [t for t in TERMS if getattr(self, t, None) not in (None, 0.0)]
+        """The error terms present, in registry order (settings such as the internal rate,
+        which are no error of their own, are not listed)."""
+        return [t.name for t in TERMS.values() if t.is_error and t.present(self)]
 
     def only(self, term: str | None) -> TriadModel:
-        """A copy keeping only ``term`` (and its correlation time); None → ideal."""
-        keep = {"bias_correlation_time", "internal_rate"} | ({term} if term else set())
-        return replace(self, **{f.name: (getattr(self, f.name) if f.name in keep else f.default)
-                                for f in fields(self)})
+        """A copy keeping only ``term`` (with the qualifiers such as its correlation time, and
+        the settings such as the internal rate); None → ideal."""
+        keep = {p.key for t in TERMS.values() for p in t.parameters_
+                if p.qualifier or not t.is_error} | ({term} if term else set())
+        return TriadModel(**{k: v for k, v in self._values.items() if k in keep})
+
+
+def _triad_model(items) -> TriadModel:
+    return TriadModel(**dict(items))
 
 
 @dataclass(frozen=True)
@@ -104,15 +164,29 @@ class ImuModel:
 
     @classmethod
     def load(cls, spec: str) -> ImuModel:
-        """A preset name or a path to ``IMU.toml``."""
-        from imunav.sensors.presets import PRESETS
+        """A preset name or a path to ``IMU.toml``.
 
+        Parameters
+        ----------
+        spec : str
+            A key of :data:`~imunav.sensors.presets.PRESETS` or a path.
+
+        Returns
+        -------
+        ImuModel
+
+        Raises
+        ------
+        ImunavError
+            If ``spec`` is neither (the message names the argument ``imu``), or the file is not
+            a valid IMU model.
+        """
         if spec in PRESETS:
             return cls.from_dict(PRESETS[spec], spec)
         if spec.endswith(".toml") or Path(spec).is_file():
             return cls.from_toml(spec)
-        raise ImunavError(f"--imu {spec!r} is neither a preset ({', '.join(PRESETS)}) nor a "
-                          "TOML file")
+        raise ImunavError(f"imu {spec!r} is neither a preset ({', '.join(PRESETS)}) nor a "
+                          "TOML file", argument="imu")
 
     def terms(self) -> list[str]:
         """Active terms as ``gyro.noise_density`` etc."""
@@ -137,31 +211,26 @@ class ImuModel:
         return max(1, int(round((self.internal_rate or rate) / rate)))
 
 
-# ---------------------------------------------------------------------------- processes
-
-
-def _flicker_bank(T: float | None) -> list[float]:
-    return [T] if T else list(np.logspace(np.log10(0.3), np.log10(3000.0), 9))
-
-
-def bias_instability_sigma(B: float, T: float | None) -> float:
-    """Std of each Gauss–Markov component so the Allan-deviation maximum equals ``B``."""
-    taus = np.logspace(-3, 5, 4000)
-    var = sum(gauss_markov_allan_variance(taus, 1.0, t) for t in _flicker_bank(T))
-    return B / float(np.sqrt(var.max()))
-
-
 class TriadStream:
     """One run of one triad's errors, applied to ideal samples fed in consecutive chunks.
 
-    The constant terms (turn-on bias, scale factor and misalignment matrix, g-sensitivity) are
-    drawn from ``rng`` when the stream is created; every time-varying sequence (each
-    Gauss–Markov component, the random walk, the white noise) then draws from its own child
-    generator, and the filters carry their state, so the output of a run does not depend on
-    how it is chunked. Chunk lengths must be multiples of ``decimate`` (but the last).
+    When the stream is created every present term draws what its run needs
+    (:meth:`~imunav.sensors.terms.Term.start`, in :data:`~imunav.sensors.terms.DRAW_ORDER`:
+    the constants — turn-on bias, scale factor and misalignment matrix, g-sensitivity — from
+    ``rng``, then each time-varying process its own child generator); the filters carry their
+    state, so the output of a run does not depend on how it is chunked. Chunk lengths must be
+    multiples of ``decimate`` (but the last).
 
-    ``kind`` is ``rates`` (samples in rate units) or ``increments`` (integrals over each
-    ``1/rate`` interval); the output is at ``rate/decimate``.
+    Parameters
+    ----------
+    m : TriadModel
+    kind : {"rates", "increments"}
+        Samples in rate units, or integrals over each ``1/rate`` interval.
+    rate : float
+        The rate of the ideal samples fed (Hz): the sensor's internal rate.
+    rng : numpy.random.Generator
+    decimate : int
+        Internal samples per output sample; the output is at ``rate/decimate``.
     """
 
     def __init__(self, m: TriadModel, kind: str, rate: float, rng: np.random.Generator,
@@ -169,76 +238,59 @@ class TriadStream:
         self.m, self.kind, self.k = m, kind, int(decimate)
         self.rate = check_positive(rate, "rate")
         self.dt = 1.0 / self.rate
-        self.bias = rng.normal(0.0, m.bias, 3) if m.bias else np.zeros(3)
+        present = [t for t in TERMS.values() if t.present(m)]
+        self.state = {}
+        for stage in DRAW_ORDER + tuple(sorted({t.stage for t in present} - set(DRAW_ORDER))):
+            for t in present:
+                if t.stage == stage:
+                    self.state[t.name] = t.start(m, self, rng)
+        self.by_stage = {}
+        for t in present:
+            self.by_stage.setdefault(t.stage, []).append((t, self.state[t.name]))
         M = np.eye(3)
-        if m.scale_factor:
-            M = M + np.diag(rng.normal(0.0, m.scale_factor, 3))
-        if m.misalignment:
-            off = rng.normal(0.0, m.misalignment, (3, 3))
-            np.fill_diagonal(off, 0.0)
-            M = M + off
+        for t, st in self.by_stage.get("gain", ()):
+            M = M + t.gain(m, st)
         self.matrix = M
-        self.g_sens = rng.normal(0.0, m.g_sensitivity, (3, 3)) if m.g_sensitivity else None
-        self.gm = []                          # [rng, a, innovation σ, previous value]
-        if m.bias_instability:
-            sd = bias_instability_sigma(m.bias_instability, m.bias_correlation_time)
-            for T in _flicker_bank(m.bias_correlation_time):
-                child = rng.spawn(1)[0]
-                a = float(np.exp(-self.dt / T))
-                # the value before the first sample is drawn from the stationary distribution
-                self.gm.append([child, a, sd * np.sqrt(1 - a * a), child.normal(0.0, sd, 3)])
-        self.rw_rng = rng.spawn(1)[0] if m.random_walk else None
-        self.rw = np.zeros(3)
-        self.noise_rng = rng.spawn(1)[0] if m.noise_density else None
-        self.sos = None
-        if m.bandwidth and m.bandwidth < 0.5 * self.rate:
-            from scipy.signal import butter
-
-            self.sos = butter(2, m.bandwidth, fs=self.rate, output="sos")
-            self.zi = None            # set from the first sample: the sensor ran before t0
-        self.total = np.zeros(3)              # increments: exact running sum (quantisation)
-        self.qtotal = np.zeros(3)             # increments: quantised running sum
-
-    def _drift(self, n: int) -> FloatArray:
-        from scipy.signal import lfilter
-
-        drift = np.zeros((n, 3))
-        for st in self.gm:
-            child, a, sw, prev = st
-            w = child.normal(0.0, sw, (n, 3))
-            y, _ = lfilter([1.0], [1.0, -a], w, axis=0, zi=(a * prev)[None])
-            drift += y
-            st[3] = y[-1]
-        if self.rw_rng is not None:
-            walk = np.cumsum(self.rw_rng.normal(0.0, self.m.random_walk * np.sqrt(self.dt),
-                                                (n, 3)), axis=0) + self.rw
-            self.rw = walk[-1]
-            drift += walk
-        return drift
+        self.offset = np.zeros(3)
+        for t, st in self.by_stage.get("offset", ()):
+            self.offset = self.offset + t.offset(m, st)
 
     def process(self, ideal: FloatArray, other: FloatArray | None = None
                 ) -> tuple[FloatArray, np.ndarray]:
         """Ideal samples (n, 3) → measured samples (n/decimate, 3) and the saturation flag of
-        each output sample. ``other``: the ideal accelerometer chunk (gyro g-sensitivity)."""
+        each output sample.
+
+        Parameters
+        ----------
+        ideal : ndarray, shape (n, 3)
+            The next ideal samples (rates or increments, as the stream's kind).
+        other : ndarray, shape (n, 3), optional
+            The ideal accelerometer samples of the same instants (the gyro's g-sensitivity).
+
+        Returns
+        -------
+        measured : ndarray, shape (n // decimate, 3)
+        flags : ndarray of bool
+            True where an output sample was clipped at the range.
+        """
         m, k, dt = self.m, self.k, self.dt
+        stages = self.by_stage
         n = ideal.shape[0]
         x = ideal / dt if self.kind == "increments" else ideal          # rate units
-        y = x @ self.matrix.T + self.bias + self._drift(n)
-        if self.g_sens is not None and other is not None:
-            f = other / dt if self.kind == "increments" else other
-            y = y + f @ self.g_sens.T
-        if self.noise_rng is not None:
-            y = y + self.noise_rng.normal(0.0, m.noise_density * np.sqrt(self.rate), (n, 3))
-        if self.sos is not None:
-            from scipy.signal import sosfilt, sosfilt_zi
-
-            if self.zi is None:       # steady state for the first input (no start-up transient)
-                self.zi = sosfilt_zi(self.sos)[:, :, None] * y[0]
-            y, self.zi = sosfilt(self.sos, y, axis=0, zi=self.zi)
+        drift = np.zeros((n, 3))
+        for t, st in stages.get("drift", ()):
+            t.add_drift(m, st, self, drift)
+        y = x @ self.matrix.T + self.offset + drift
+        for t, st in stages.get("coupling", ()):
+            y = t.couple(m, st, self, y, other)
+        for t, st in stages.get("white", ()):
+            y = t.add_white(m, st, self, y)
+        for t, st in stages.get("filter", ()):
+            y = t.filter(m, st, self, y)
         flags = np.zeros(n, dtype=bool)
-        if m.range:
-            flags = np.any(np.abs(y) > m.range, axis=1)
-            y = np.clip(y, -m.range, m.range)
+        for t, _ in stages.get("saturation", ()):
+            y, clipped = t.saturate(m, y)
+            flags = flags | clipped
         if k > 1:
             nn = n // k
             if self.kind == "increments":
@@ -248,14 +300,8 @@ class TriadStream:
                 y, flags = y[::k], flags[::k]                      # the output instants
         if self.kind == "increments":
             y = y * (dt * k)
-            if m.resolution:
-                q = m.resolution * dt * k
-                total = self.total + np.cumsum(y, axis=0)          # residual carry: no loss
-                qt = np.round(total / q) * q
-                y = np.diff(qt, axis=0, prepend=self.qtotal[None])
-                self.total, self.qtotal = total[-1], qt[-1]
-        elif m.resolution:
-            y = np.round(y / m.resolution) * m.resolution
+        for t, st in stages.get("quantisation", ()):
+            y = t.quantise(m, st, self, y)
         return y, flags
 
 
@@ -270,7 +316,19 @@ def apply_triad(m: TriadModel, ideal: FloatArray, kind: str, rate: float, rng,
 
 
 class MeasureStream:
-    """One run of a 6-axis IMU: ideal gyro and accel chunks → measured chunks and flags."""
+    """One run of a 6-axis IMU: ideal gyro and accel chunks → measured chunks and flags.
+
+    Parameters
+    ----------
+    model : ImuModel
+    kind : {"rates", "increments"}
+    rate : float
+        Rate of the ideal samples (Hz).
+    rng : numpy.random.Generator
+        The run's generator (the gyro's own generator is seeded from it first).
+    decimate : int
+        Internal samples per output sample.
+    """
 
     def __init__(self, model: ImuModel, kind: str, rate: float, rng: np.random.Generator,
                  decimate: int = 1):
@@ -280,6 +338,7 @@ class MeasureStream:
 
     def process(self, gyro: FloatArray, accel: FloatArray
                 ) -> tuple[FloatArray, FloatArray, np.ndarray]:
+        """The next ideal chunks (n, 3) → ``(measured gyro, measured accel, clipped)``."""
         gm, fg = self.gyro.process(gyro, other=accel)
         am, fa = self.accel.process(accel)
         return gm, am, fg | fa

@@ -43,8 +43,8 @@ from imunav.sensors.models import MeasureStream
 from imunav.sensors.quadrature import integrate_consecutive, integrate_piecewise
 from imunav.sensors.signals import KINDS, ImuSignals
 
-__all__ = ["ideal_chunks", "interval_count", "measured_chunks", "sample_times", "simulate_imu",
-           "truth_states"]
+__all__ = ["ideal_chunks", "interval_count", "measured_chunks", "sample_times", "signal_chunks",
+           "simulate_imu", "truth_chunks", "truth_states"]
 
 
 def interval_count(rate: float, duration: float) -> int:
@@ -108,7 +108,7 @@ def ideal_chunks(motion: BaseMotion, rate: float, duration: float | None = None,
         if output == "rates":
             yield t, motion.angular_rate(t), motion.specific_force(t, g)
         else:
-            bp = getattr(motion, "breakpoints", None)
+            bp = motion.breakpoints
             if bp is not None and len(bp):        # a spline: integrate piece by piece
                 inc = integrate_piecewise(lambda s: _imu(motion, s, g), t0, 1.0 / rate,
                                           int(k[0]) - 1, int(k[-1]), bp)
@@ -143,6 +143,73 @@ def measured_chunks(motion: BaseMotion, model, rate: float, duration: float | No
         if on_clip is not None and flags.any():
             on_clip(int(flags.sum()))
         yield (t[::k] if output == "rates" else t[k - 1::k][: gm.shape[0]]), gm, am
+
+
+def signal_chunks(motion: BaseMotion, rate: float, duration: float | None = None, *,
+                  output: str = "rates", g: float = G0, t0: float = 0.0, imu=None, seed: int = 0,
+                  chunk: int = CHUNK, on_clip=None
+                  ) -> Iterator[tuple[FloatArray, FloatArray, FloatArray]]:
+    """The signals of :func:`simulate_imu` as ``(t, gyro, accel)`` chunks: ideal
+    (:func:`ideal_chunks`) without ``imu``, else with its errors (:func:`measured_chunks`).
+
+    Parameters
+    ----------
+    motion : BaseMotion
+    rate : float
+        Output rate (Hz).
+    duration : float, optional
+        Seconds; default the motion's own.
+    output : {"rates", "increments"}
+    g : float
+        Gravity magnitude (m/s²).
+    t0 : float
+        Start time (s).
+    imu : ImuModel, optional
+        Sensor errors; ideal if None.
+    seed : int
+        Random seed for ``imu``.
+    chunk : int
+        Samples per chunk (at most).
+    on_clip : callable, optional
+        ``on_clip(count)``, called with the clipped output samples of each chunk.
+
+    Yields
+    ------
+    tuple of ndarray
+        ``(t, gyro, accel)``, shapes (n,), (n, 3), (n, 3).
+    """
+    if imu is None:
+        return ideal_chunks(motion, rate, duration, output=output, g=g, t0=t0, chunk=chunk)
+    return measured_chunks(motion, imu, rate, duration, output=output, g=g, t0=t0, seed=seed,
+                           chunk=chunk, on_clip=on_clip)
+
+
+def truth_chunks(motion: BaseMotion, rate: float, duration: float | None = None, *,
+                 chunk: int = CHUNK) -> Iterator[States]:
+    """The true states at ``t_k = k/rate``, k = 0..N, ``N = round(duration × rate)``, in chunks
+    of at most ``chunk`` rows (what ``imunav simulate --truth`` writes, in bounded memory).
+
+    Parameters
+    ----------
+    motion : BaseMotion
+    rate : float
+        Output rate (Hz).
+    duration : float, optional
+        Seconds; default the motion's own.
+    chunk : int
+
+    Yields
+    ------
+    States
+
+    Raises
+    ------
+    ImunavError
+        For a non-positive rate or duration.
+    """
+    n = interval_count(rate, motion.duration if duration is None else duration)
+    for lo in range(0, n + 1, chunk):
+        yield motion.states(np.arange(lo, min(n + 1, lo + chunk)) / rate)
 
 
 def simulate_imu(motion: BaseMotion, rate: float, duration: float | None = None, *,
@@ -192,4 +259,4 @@ def simulate_imu(motion: BaseMotion, rate: float, duration: float | None = None,
     parts = list(chunks)
     t, gyro, accel = (np.concatenate([p[i] for p in parts]) for i in range(3))
     return ImuSignals(t, gyro, accel, output, float(rate), g,
-                      meta={"motion": getattr(motion, "name", "motion"), "t0": float(t0)})
+                      meta={"motion": motion.name, "t0": float(t0)})

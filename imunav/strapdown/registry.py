@@ -19,7 +19,8 @@ May import: ``imunav.core``, ``imunav.sensors.signals``, ``imunav.strapdown`` mo
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections import deque
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -34,7 +35,7 @@ from imunav.strapdown import classic
 from imunav.strapdown.highorder import navigate_poly
 
 __all__ = ["ALGORITHMS", "Algorithm", "DEFAULT_ALGORITHM", "StreamNavigator", "navigate",
-           "navigate_batch", "resolve"]
+           "navigate_batch", "navigate_chunks", "resolve"]
 
 
 @dataclass(frozen=True)
@@ -320,3 +321,65 @@ def navigate_batch(kind: str, gyro: FloatArray, accel: FloatArray, rate: float,
     p0 = np.ascontiguousarray(np.broadcast_to(as_float_array(p0, "p0", last=3), (R, 3)))
     nav = StreamNavigator(kind, rate, q0, v0, p0, g, algorithm=algo.name, runs=R)
     return _collect(nav, gyro, accel, q0, v0, p0)
+
+
+def navigate_chunks(kind: str, rate: float, chunks: Iterable[tuple[FloatArray, FloatArray, FloatArray]],
+                    q0: npt.ArrayLike, v0: npt.ArrayLike, p0: npt.ArrayLike, g: float = G0, *,
+                    algorithm: str | None = None, t0: float = 0.0) -> Iterator[States]:
+    """Navigate signals that arrive in pieces, in bounded memory: what ``imunav navigate``
+    streams from a CSV of any length.
+
+    Parameters
+    ----------
+    kind : {"rates", "increments"}
+    rate : float
+        Sample rate (Hz).
+    chunks : iterable of (t, gyro, accel)
+        Consecutive pieces of the signals (``t`` (n,), ``gyro``/``accel`` (n, 3)), as
+        :meth:`imunav.io.files.SignalFile.chunks` reads them.
+    q0 : array_like, shape (4,)
+        Initial attitude ``q_nb`` at ``t0`` (normalised).
+    v0, p0 : array_like, shape (3,)
+        Initial velocity (m/s) and position (m).
+    g : float
+        Gravity magnitude (m/s²).
+    algorithm : str, optional
+        A name from ``ALGORITHMS[kind]``; default the most accurate.
+    t0 : float
+        Start time (s): the first sample for rates, the start of the first interval for
+        increments.
+
+    Yields
+    ------
+    States
+        First the initial state at ``t0``, then the navigated states in order as they complete,
+        each with its time.
+
+    Raises
+    ------
+    ImunavError
+        For an unknown kind or algorithm, too few samples, or a navigation that turns
+        non-finite.
+    """
+    algo = resolve(kind, algorithm)
+    q0, v0, p0 = (np.asarray(a, dtype=float) for a in (q0, v0, p0))
+    nav = StreamNavigator(kind, rate, q0, v0, p0, g, algorithm=algo.name, t0=t0)
+    yield States(np.array([float(t0)]), p0[None], v0[None], (q0 / np.linalg.norm(q0))[None],
+                 algo.name)
+    times: deque[float] = deque()                    # times of the nodes still to come out
+    skip = 1 if kind == "rates" else 0               # a rate signal's first sample is node 0
+    fed = 0
+
+    def out(parts):
+        for q, v, p in parts:
+            t = np.array([times.popleft() for _ in range(len(q))])
+            yield States(t, p, v, q, algo.name)
+
+    for t, gyro, accel in chunks:
+        times.extend(np.asarray(t)[skip:].tolist())
+        skip = 0
+        fed += len(t)
+        yield from out(nav.feed(gyro, accel))
+    if fed < algo.min_samples:
+        raise ImunavError(f"{kind} signals need at least {algo.min_samples} samples, got {fed}")
+    yield from out(nav.finish())

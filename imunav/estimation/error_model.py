@@ -1,0 +1,343 @@
+"""The navigation error model: the error state, its continuous dynamics along a trajectory, and
+how each sensor error term enters it.
+
+Error state (flat, non-rotating NED, as the navigation), indices :data:`PHI`, :data:`DV`,
+:data:`DP`, then the states of the sensor error terms::
+
+    φ   attitude error, C_est = (I − [φ×]) C_nb        φ̇  = −C_nb δω
+    δv  velocity error                                δv̇ = [f_n×] φ + C_nb δf
+    δp  position error                                δṗ = δv
+
+with ``f_n = a_n − g_n`` the specific force in the navigation frame and ``δω``, ``δf`` the gyro
+and accelerometer errors. A sensor error term (:mod:`imunav.sensors.terms`) linearises itself
+as ``k`` states ``x`` with ``ẋ = diag(D) x + w`` entering its triad as ``δu = M(t) x``, plus white
+noise; here that becomes an :class:`ErrorSource`: the system
+
+    d/dt [e; x] = [[A(t), B(t)], [0, diag(D)]] [e; x] + G(t) w,      B = [−C M; 0; 0] (gyro)
+                                                                       or [0; C M; 0] (accel)
+
+The frame enters only through the navigation block ``A(t)`` (:meth:`FlatErrorModel.nav_matrix`)
+and the exact discretisation of a step (:meth:`FlatErrorModel.discretise`); the model of the
+rotating Earth (Earth rate, transport rate, the Schuler feedback through gravity) is another
+class with the same methods, used by the same propagation and filter.
+
+May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``,
+``imunav.estimation.discretisation``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from imunav.core.constants import G0
+from imunav.core.kernels import FloatArray, quat_to_dcm, skew
+from imunav.core.validation import check_gravity, check_positive
+from imunav.estimation.discretisation import flat_transition, process_noise, van_loan
+from imunav.motion.base import BaseMotion
+from imunav.sensors.models import ImuModel
+from imunav.sensors.simulate import interval_count
+from imunav.sensors.terms import TERMS, LinearisationContext, SensorErrorStates
+
+__all__ = ["DP", "DV", "NAV", "PHI", "ErrorSource", "FlatErrorModel", "Trajectory",
+           "linearise"]
+
+#: The navigation error states: attitude error φ (rad), velocity error δv (m/s), position
+#: error δp (m), each 3 components in the navigation frame; ``NAV`` = 9 of them.
+PHI, DV, DP = slice(0, 3), slice(3, 6), slice(6, 9)
+NAV = 9
+
+#: The rows of the navigation error a triad's error drives: the gyro φ, the accelerometer δv.
+TRIAD_ROWS = {"gyro": PHI, "accel": DV}
+
+#: Largest step (in correlation times) of a decaying sensor state: longer output steps are cut
+#: into this many sub-steps, so the midpoint linearisation of fast Gauss–Markov states holds.
+MAX_DECAY_STEP = 0.5
+
+
+@dataclass
+class Trajectory:
+    """The motion at the midpoints of the output steps: the points the error model is
+    linearised at (the true motion in a covariance analysis; the estimate in a filter).
+
+    Attributes
+    ----------
+    h : float
+        Output step (s).
+    t : ndarray, shape (N + 1,)
+        Output times ``t_0 … t_N``.
+    C : ndarray, shape (N, 3, 3)
+        ``C_nb`` at the step midpoints.
+    f_n : ndarray, shape (N, 3)
+        ``a_n − g_n`` (m/s²) at the midpoints.
+    omega : ndarray, shape (N, 3)
+        ``ω_b`` (rad/s) at the midpoints.
+    f_b : ndarray, shape (N, 3)
+        ``f_b`` (m/s²) at the midpoints.
+    max_rate, max_force : float
+        Largest ``|ω_b|`` and ``|f_b|`` over the midpoints (range warnings).
+    """
+
+    h: float
+    t: FloatArray
+    C: FloatArray
+    f_n: FloatArray
+    omega: FloatArray
+    f_b: FloatArray
+    max_rate: float = 0.0
+    max_force: float = 0.0
+
+    @classmethod
+    def of(cls, motion: BaseMotion, rate: float, duration: float, g: float = G0) -> Trajectory:
+        """Sample ``motion`` at the midpoints of ``round(duration × rate)`` steps.
+
+        Parameters
+        ----------
+        motion : BaseMotion
+        rate : float
+            Output rate (Hz), > 0.
+        duration : float
+            Seconds (> 0).
+        g : float
+            Gravity magnitude (m/s²).
+
+        Returns
+        -------
+        Trajectory
+
+        Raises
+        ------
+        ImunavError
+            For a non-positive rate, duration or gravity, or fewer than one step.
+        """
+        n = interval_count(rate, duration)
+        h = 1.0 / check_positive(rate, "rate")
+        g = check_gravity(g)
+        t = np.arange(n + 1) * h
+        tm = t[:-1] + h / 2
+        q = motion.attitude(tm)
+        a = motion.acceleration(tm) - np.array([0.0, 0.0, g])
+        w = motion.angular_rate(tm)
+        fb = motion.specific_force(tm, g)
+        return cls(h, t, quat_to_dcm(q), a, w, fb, float(np.linalg.norm(w, axis=1).max()),
+                   float(np.linalg.norm(fb, axis=1).max()))
+
+    @property
+    def steps(self) -> int:
+        """Number of steps N."""
+        return int(self.C.shape[0])
+
+    def piece(self, lo: int, hi: int) -> Trajectory:
+        """Steps ``lo … hi − 1`` (and their end times ``t_lo … t_hi``) as a trajectory of their
+        own: what chunked propagation works on."""
+        return Trajectory(self.h, self.t[lo:hi + 1], self.C[lo:hi], self.f_n[lo:hi],
+                          self.omega[lo:hi], self.f_b[lo:hi], self.max_rate, self.max_force)
+
+    def measured(self, triad: str) -> FloatArray:
+        """What ``triad`` measures over the steps: ``ω_b`` (gyro) or ``f_b`` (accel)."""
+        return self.omega if triad == "gyro" else self.f_b
+
+
+@dataclass
+class ErrorSource:
+    """One independent sensor error source as a linear system of the navigation errors and
+    ``k`` sensor states (its :class:`~imunav.sensors.terms.SensorErrorStates`).
+
+    Attributes
+    ----------
+    states : SensorErrorStates
+    sub : int
+        Sub-steps per output step (``h/sub ≤`` :data:`MAX_DECAY_STEP` correlation times).
+    """
+
+    states: SensorErrorStates
+    sub: int = 1
+
+    @property
+    def name(self) -> str:
+        """``"gyro.bias"`` etc."""
+        return self.states.name
+
+    @property
+    def size(self) -> int:
+        """Sensor states ``k``."""
+        return self.states.size
+
+    @property
+    def differenced(self) -> bool:
+        """Whether the source is a differenced white error (quantised increments)."""
+        return bool(self.states.differenced_white)
+
+    def initial_covariance(self) -> FloatArray:
+        """``P₀`` of ``[e, x]``: the navigation errors 0, the sensor states ``states.P0``."""
+        k = self.size
+        P0 = np.zeros((NAV + k, NAV + k))
+        P0[NAV:, NAV:] = self.states.P0
+        return P0
+
+    def noise_psd(self) -> FloatArray:
+        """Diagonal PSD ``Qc`` (9 + k,) of the white inputs: the triad's white noise on its
+        navigation rows (isotropic, so ``C Q Cᵀ = Q``), the driving noise of the sensor states."""
+        q = np.zeros(NAV)
+        q[TRIAD_ROWS[self.states.triad]] = self.states.white_psd
+        return np.concatenate([q, self.states.Qs])
+
+
+class FlatErrorModel:
+    """The error dynamics of strapdown navigation in the flat, non-rotating NED frame.
+
+    ``A(t)`` has ``[f_n×]`` from φ into δv and the identity from δv into δp: it is nilpotent
+    (``A³ = 0``) over a step where ``f_n`` is held at the midpoint value, which makes the
+    discretisation exact in closed form (:func:`~imunav.estimation.discretisation.flat_transition`).
+    """
+
+    name = "flat"
+
+    def nav_matrix(self, traj: Trajectory) -> FloatArray:
+        """The navigation block ``A`` (N, 9, 9) at each step of ``traj``.
+
+        Parameters
+        ----------
+        traj : Trajectory
+
+        Returns
+        -------
+        ndarray, shape (N, 9, 9)
+        """
+        A = np.zeros((traj.steps, NAV, NAV))
+        A[:, DV, PHI] = skew(traj.f_n)
+        A[:, DP, DV] = np.eye(3)
+        return A
+
+    def sensor_input(self, traj: Trajectory, states: SensorErrorStates) -> FloatArray:
+        """``B`` (N, 9, k): how the sensor states drive the navigation errors, ``−C M`` into φ
+        (gyro) or ``C M`` into δv (accel), ``M`` the term's input matrix over the steps."""
+        M = states.input_matrix(traj.measured(states.triad), traj.f_b)
+        B = np.zeros((M.shape[0], NAV, M.shape[2]))
+        CM = traj.C @ M
+        if states.triad == "gyro":
+            B[:, PHI] = -CM
+        else:
+            B[:, DV] = CM
+        return B
+
+    def noise_input(self, traj: Trajectory) -> FloatArray:
+        """``G`` (N, 9, 6): the gyro and accelerometer white noises ``[w_g, w_a]`` into the
+        navigation errors (``−C`` into φ, ``C`` into δv)."""
+        G = np.zeros((traj.steps, NAV, 6))
+        G[:, PHI, 0:3] = -traj.C
+        G[:, DV, 3:6] = traj.C
+        return G
+
+    def dynamics(self, traj: Trajectory, source: ErrorSource) -> tuple[FloatArray, FloatArray]:
+        """The continuous system of ``[e, x]`` for ``source`` at each step.
+
+        Parameters
+        ----------
+        traj : Trajectory
+        source : ErrorSource
+
+        Returns
+        -------
+        F : ndarray, shape (N, 9 + k, 9 + k)
+            ``[[A, B], [0, diag(D)]]``.
+        Qc : ndarray, shape (9 + k,)
+            Diagonal PSD of the white inputs (:meth:`ErrorSource.noise_psd`).
+        """
+        k = source.size
+        F = np.zeros((traj.steps, NAV + k, NAV + k))
+        F[:, :NAV, :NAV] = self.nav_matrix(traj)
+        if k:
+            F[:, :NAV, NAV:] = self.sensor_input(traj, source.states)
+            F[:, NAV:, NAV:] = np.diag(source.states.D)
+        return F, source.noise_psd()
+
+    def transition(self, traj: Trajectory, B: FloatArray, D: FloatArray, h: float
+                   ) -> FloatArray:
+        """The exact transition ``Φ`` (N, 9 + k, 9 + k) over a step ``h`` of the system with
+        sensor input ``B`` (N, 9, k) and sensor decay rates ``D`` (k,)."""
+        return flat_transition(skew(traj.f_n), B, D, h)
+
+    def discretise(self, traj: Trajectory, source: ErrorSource, h: float | None = None
+                   ) -> tuple[FloatArray, FloatArray]:
+        """The exact discrete system of one (sub-)step of ``source`` along ``traj``.
+
+        Parameters
+        ----------
+        traj : Trajectory
+        source : ErrorSource
+        h : float, optional
+            The step (s); default one sub-step, ``traj.h / source.sub``.
+
+        Returns
+        -------
+        Phi : ndarray, shape (N, 9 + k, 9 + k)
+            The transition, exact for the motion held at each step's midpoint.
+        Qd : ndarray, shape (N, 9 + k, 9 + k)
+            The process noise ``∫₀ʰ Φ(s) Qc Φ(s)ᵀ ds`` (6-node Gauss–Legendre on the exact
+            transition: exact for its polynomial part).
+        """
+        h = traj.h / source.sub if h is None else h
+        F = skew(traj.f_n)
+        k = source.size
+        B = self.sensor_input(traj, source.states) if k else np.zeros((traj.steps, NAV, 0))
+        D = source.states.D
+        return (flat_transition(F, B, D, h),
+                process_noise(lambda s: flat_transition(F, B, D, s), source.noise_psd(), h))
+
+    def discretise_generic(self, traj: Trajectory, source: ErrorSource, h: float
+                           ) -> tuple[FloatArray, FloatArray]:
+        """The same discrete system by Van Loan's matrix exponential of the continuous one
+        (:func:`~imunav.estimation.discretisation.van_loan`): what a model whose ``A`` is not
+        nilpotent (the rotating Earth) uses; here the independent check of :meth:`discretise`."""
+        F, Qc = self.dynamics(traj, source)
+        return van_loan(F, Qc, h)
+
+
+#: The error model of the flat, non-rotating frame (the only frame so far).
+FLAT = FlatErrorModel()
+
+
+def linearise(model: ImuModel, traj: Trajectory, output: str = "increments", decimate: int = 1
+              ) -> tuple[list[ErrorSource], list[str]]:
+    """Every registered sensor error term of ``model`` as error sources along ``traj``.
+
+    Parameters
+    ----------
+    model : ImuModel
+    traj : Trajectory
+    output : {"increments", "rates"}
+        The signal kind (quantisation and aliasing differ).
+    decimate : int
+        Internal samples per output sample (``model.decimation(rate)``).
+
+    Returns
+    -------
+    sources : list of ErrorSource
+        Gyro terms, then accelerometer terms; within a triad the white inputs (sources without
+        states of their own: white noise, quantisation) first, then the sources with states,
+        each group in registry order.
+    warnings : list of str
+        From the terms without a linear model (the motion exceeding a range).
+
+    Raises
+    ------
+    NotImplementedError
+        If a present term has a realisation but no linearisation.
+    """
+    sources, warnings = [], []
+    for triad in ("gyro", "accel"):
+        m = getattr(model, triad)
+        peak = traj.max_rate if triad == "gyro" else traj.max_force
+        ctx = LinearisationContext(triad, traj.h, output, decimate, peak, warnings)
+        own = []
+        for term in TERMS.values():
+            if triad not in term.triads:
+                continue
+            for states in term.linearise(m, ctx):
+                rate = np.max(np.abs(states.D), initial=0.0)
+                sub = max(1, int(np.ceil(rate * traj.h / MAX_DECAY_STEP)))
+                own.append(ErrorSource(states, sub))
+        sources += sorted(own, key=lambda s: s.size > 0)          # stable: white inputs first
+    return sources, warnings
