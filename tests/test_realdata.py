@@ -27,9 +27,11 @@ def test_ximu_reader():
 
 
 def test_device_quaternion_conventions():
-    c3 = R.device_quaternion_convention(R.read_ximu3())
+    from imunav.analysis import recordings as A
+
+    c3 = A.device_quaternion_convention(R.read_ximu3())
     assert min(c3, key=c3.get) == "wxyz/q_nb" and c3["wxyz/q_nb"] < 5
-    c1 = R.device_quaternion_convention(R.read_ximu())
+    c1 = A.device_quaternion_convention(R.read_ximu())
     assert min(c1, key=c1.get) == "wxyz/q_bn" and c1["wxyz/q_bn"] < 10
 
 
@@ -85,16 +87,16 @@ def test_cli_formats(tmp_path, capsys):
 
 
 def test_bias_calibration_judged_out_of_sample():
-    from imunav.io import realdata as R
+    from imunav.analysis import recordings as A
 
     s = R.read_ximu3().signals
-    a, b = R.static_segments(s)[0]
+    a, b = A.static_segments(s)[0]
     for split in (a + 20, (a + b) // 2):
-        h = R.holdout_bias(s, a, b, split)
+        h = A.holdout_bias(s, a, b, split)
         # measured: 9.3 → 1.0 mm (split at 0.4 s) and 4.8 → 0.5 mm (at 0.66 s)
         assert h["out_of_sample"]["final"] < 0.3 * h["raw"]["final"]
-    with pytest.raises(R.ImunavError, match="split"):
-        R.holdout_bias(s, a, b, b)
+    with pytest.raises(ImunavError, match="split"):
+        A.holdout_bias(s, a, b, b)
 
 
 def test_static_segments_end_with_the_last_quiet_sample():
@@ -112,7 +114,9 @@ def test_static_segments_end_with_the_last_quiet_sample():
     accel = np.tile([0.0, 0.0, -g], (n, 1))
     accel[50:80, 2] *= 1.2
     sig = ImuSignals(np.arange(n) / rate, gyro, accel, "rates", rate, g)
-    segs = R.static_segments(sig, window=0.1)
+    from imunav.analysis import recordings as A
+
+    segs = A.static_segments(sig, window=0.1)
     assert segs == [(0, 50), (80, 150)]
     for a, b in segs:
         assert np.all(sig.gyro[a:b] == 0.0)

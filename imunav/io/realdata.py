@@ -3,10 +3,12 @@
 Every reader converts to imunav's SI units at the boundary (rad/s, m/s², s) and returns a
 :class:`Recording` whose ``signals`` are ordinary rate :class:`~imunav.ImuSignals`. The
 device's onboard orientation, where present, is returned raw (``device_t``, ``device_q``):
-its convention is checked against the gyro in ``notebooks/07_real_imu_data.ipynb`` and
-:func:`device_quaternion_convention`.
+its convention is checked against the gyro by
+:func:`imunav.analysis.recordings.device_quaternion_convention` (and in
+``notebooks/07_real_imu_data.ipynb``). The analyses of recordings live in
+:mod:`imunav.analysis.recordings`: this module only reads.
 
-May import: ``imunav.core``, ``imunav.sensors``, ``imunav.strapdown``, ``imunav.io.csvio``.
+May import: ``imunav.core``, ``imunav.sensors``, ``imunav.io.csvio``.
 """
 
 from __future__ import annotations
@@ -18,18 +20,30 @@ from pathlib import Path
 import numpy as np
 
 from imunav.core.constants import DEG, G0
-from imunav.core.kernels import quat_angle, quat_conj, quat_mul
 from imunav.core.rotations import FloatArray
 from imunav.core.units import factor
 from imunav.core.validation import ImunavError, check_positive
 from imunav.io.csvio import read_chunks, read_header
 from imunav.sensors.signals import ImuSignals
-from imunav.strapdown.alignment import level_attitude, remove_static_biases
-from imunav.strapdown.registry import navigate
 
 
 @dataclass
 class Recording:
+    """A real recording: its IMU signals (rates, SI) and the device's own output.
+
+    Attributes
+    ----------
+    signals : ImuSignals
+        Rate samples (rad/s, m/s²) at the recording's rate.
+    device_t : ndarray, shape (M,), optional
+        Times (s) of the device's onboard orientation, on the signals' clock.
+    device_q : ndarray, shape (M, 4), optional
+        That orientation as stored by the device (its element order and meaning are the
+        reader's to state; see :func:`~imunav.analysis.recordings.device_as_q_nb`).
+    meta : dict
+        The device name, the path, packet numbers.
+    """
+
     signals: ImuSignals
     device_t: FloatArray | None = None
     device_q: FloatArray | None = None   # raw, as stored by the device (see its reader)
@@ -145,169 +159,3 @@ def read_ximu(folder: str | Path | None = None, rate: float = 256.0) -> Recordin
 
 
 READERS = {"ximu3": read_ximu3, "ximu": read_ximu}
-
-
-# ------------------------------------------------------------------------------ analysis
-
-
-def gyro_attitude(sig: ImuSignals, q0: FloatArray, i0: int = 0, i1: int | None = None,
-                  algorithm: str = "magnus6") -> FloatArray:
-    """Gyro-only attitude from sample ``i0`` (attitude ``q0``) to ``i1``: (i1 − i0, 4)."""
-    i1 = len(sig) if i1 is None else i1
-    sub = ImuSignals(sig.t[i0:i1], sig.gyro[i0:i1], sig.accel[i0:i1], "rates", sig.rate, sig.g)
-    return navigate(sub, q0, algorithm=algorithm).quaternion
-
-
-def _device_at(rec: Recording, layout: str) -> FloatArray:
-    q = rec.device_q
-    if layout == "wxyz":
-        out = q
-    elif layout == "xyzw":
-        out = q[:, [3, 0, 1, 2]]
-    else:
-        raise ImunavError(f"layout must be 'wxyz' or 'xyzw', got {layout!r}")
-    return out / np.linalg.norm(out, axis=1, keepdims=True)
-
-
-def device_quaternion_convention(rec: Recording, window: float = 2.0) -> dict:
-    """Which reading of the device quaternion agrees with the gyro?
-
-    For each candidate (element order ``wxyz``/``xyzw``; the quaternion as sensor→earth
-    ``q_nb`` or as earth→sensor ``q_bn = q_nb*``) compare the relative rotation the device
-    reports over consecutive windows with the gyro's (frame-free: body-frame relative
-    rotations do not depend on the earth frame's axes). Returns the median disagreement (deg)
-    per candidate.
-    """
-    sig = rec.signals
-    n = int(window * sig.rate)
-    out = {}
-    idx = np.arange(0, len(sig) - n, n)
-    ti = np.searchsorted(rec.device_t, sig.t[idx])
-    tj = np.searchsorted(rec.device_t, sig.t[idx + n])
-    ok = (ti < len(rec.device_t)) & (tj < len(rec.device_t))
-    for layout in ("wxyz", "xyzw"):
-        qd = _device_at(rec, layout)
-        for meaning in ("q_nb", "q_bn"):
-            errs = []
-            for a, b, i in zip(ti[ok], tj[ok], idx[ok], strict=True):
-                qa, qb = qd[a], qd[b]
-                if meaning == "q_bn":
-                    qa, qb = quat_conj(qa), quat_conj(qb)
-                rel_dev = quat_mul(quat_conj(qa), qb)
-                g = gyro_attitude(sig, [1.0, 0, 0, 0], i, i + n + 1)[-1]
-                errs.append(np.degrees(quat_angle(rel_dev, g)))
-            out[f"{layout}/{meaning}"] = float(np.median(errs))
-    return out
-
-
-def device_as_q_nb(rec: Recording) -> FloatArray:
-    """The device quaternion as ``q_nb`` (device body axes → device earth frame), using the
-    convention :func:`device_quaternion_convention` establishes for each device:
-    x-IMU3 ``[W, X, Y, Z]`` sensor→earth; x-IMU ``[w, x, y, z]`` earth→sensor (conjugated)."""
-    q = _device_at(rec, "wxyz")
-    if rec.meta.get("device") == "x-IMU":
-        q = quat_conj(q)
-    return q
-
-
-def gyro_vs_device(rec: Recording, windows=(0.25, 0.5, 1.0, 2.0), algorithm: str = "magnus6",
-                   gyro_bias: FloatArray | None = None, start: float = 0.0) -> dict[float, float]:
-    """Median angle (deg) between gyro-only and device attitude at the end of windows of each
-    length, each window started from the device attitude (start times from ``start`` on)."""
-    sig = rec.signals
-    if gyro_bias is not None:
-        sig = ImuSignals(sig.t, sig.gyro - gyro_bias, sig.accel, "rates", sig.rate, sig.g)
-    qd = device_as_q_nb(rec)
-    out = {}
-    for w in windows:
-        n = int(round(w * sig.rate))
-        errs = []
-        for i in range(int(start * sig.rate), len(sig) - n - 1, max(n, 1)):
-            a = int(np.searchsorted(rec.device_t, sig.t[i]))
-            b = int(np.searchsorted(rec.device_t, sig.t[i + n]))
-            if b >= len(rec.device_t):
-                break
-            q = gyro_attitude(ImuSignals(sig.t, sig.gyro, sig.accel, "rates", sig.rate, sig.g),
-                              qd[a], i, i + n + 1, algorithm)[-1]
-            errs.append(np.degrees(quat_angle(q, qd[b])))
-        out[w] = float(np.median(errs))
-    return out
-
-
-def static_segments(sig: ImuSignals, window: float = 0.5, gyro_tol: float = np.radians(3.0),
-                    accel_tol: float = 0.03) -> list[tuple[int, int]]:
-    """Index ranges where, over sliding ``window`` s, each gyro axis spreads by less than
-    ``gyro_tol`` (max − min: a biased gyro at rest still counts) and |f| stays within
-    ``accel_tol`` (relative) of g: candidate stationary periods for bias estimation.
-
-    Each range ``(i0, i1)`` is half-open: it starts at the first quiet window and ends with the
-    last sample of the last quiet window (a window of ``n`` samples starting at ``j − 1`` ends
-    at ``j + n − 2``, so ``i1 = j + n − 1``), so no sample after the motion resumes is in it."""
-    from numpy.lib.stride_tricks import sliding_window_view
-
-    n = max(2, int(window * sig.rate))
-    gw = sliding_window_view(sig.gyro, n, axis=0)            # (N−n+1, 3, n)
-    spread = (gw.max(axis=-1) - gw.min(axis=-1)).max(axis=-1)
-    a = np.abs(np.linalg.norm(sig.accel, axis=1) / sig.g - 1)
-    aw = sliding_window_view(a, n).max(axis=-1)
-    ok = (spread < gyro_tol) & (aw < accel_tol)
-    segs, i = [], 0
-    while i < len(ok):
-        if ok[i]:
-            j = i
-            while j < len(ok) and ok[j]:
-                j += 1
-            segs.append((i, j - 1 + n))      # the last quiet window starts at j − 1
-            i = j
-        else:
-            i += 1
-    return segs
-
-
-def drift_from_rest(sig: ImuSignals, i0: int, i1: int, bias_window: int | None = None,
-                    algorithm: str = "magnus6") -> dict:
-    """Double-integrate the accelerometers over a stationary stretch ``[i0, i1)`` from rest,
-    with the attitude from the resting accelerometer and the gyro. The true position stays 0,
-    so |p(t)| is pure drift; it is fitted as ``c₂t² + c₃t³`` (accelerometer residual bias,
-    and tilt from gyro bias feeding gravity into the horizontal).
-
-    ``bias_window``: if given, gyro bias and accelerometer residual are first estimated over
-    the first ``bias_window`` samples and subtracted (static-segment calibration)."""
-    g, a = sig.gyro[i0:i1], sig.accel[i0:i1]
-    nb = bias_window or min(len(g), int(0.5 * sig.rate))
-    q0 = level_attitude(a[:nb], sig.g, tol=0.1)
-    if bias_window:
-        g, a, _, _ = remove_static_biases(g, a, slice(0, bias_window), q0, sig.g)
-    sub = ImuSignals(sig.t[i0:i1] - sig.t[i0], g, a, "rates", sig.rate, sig.g)
-    nav = navigate(sub, q0, algorithm=algorithm)
-    t = nav.t
-    d = np.linalg.norm(nav.position, axis=1)
-    A = np.stack([t**2, t**3], 1)
-    c, *_ = np.linalg.lstsq(A, d, rcond=None)
-    return {"t": t, "drift": d, "c2": float(c[0]), "c3": float(c[1])}
-
-
-def holdout_bias(sig: ImuSignals, i0: int, i1: int, split: int,
-                 algorithm: str = "magnus6") -> dict:
-    """Bias calibration judged out of sample: gyro and accelerometer offsets estimated over
-    ``[i0, split)`` of a static stretch, then the held-out ``[split, i1)`` navigated from rest
-    (attitude from its own first samples) two ways — raw, and with the estimated offsets
-    (out of sample: what a calibration delivers, judged on data it has not seen). Returns the
-    drift histories and their final values (m)."""
-    if not i0 < split < i1:
-        raise ImunavError(f"split must lie inside ({i0}, {i1}), got {split}")
-    g_all, a_all = sig.gyro, sig.accel
-    est = slice(i0, split)
-    q_est = level_attitude(a_all[est], sig.g, tol=0.1)
-    _, _, bg, ba = remove_static_biases(g_all[est], a_all[est], slice(None), q_est, sig.g)
-    test_g, test_a = g_all[split:i1], a_all[split:i1]
-    q0 = level_attitude(test_a[: max(2, (i1 - split) // 4)], sig.g, tol=0.1)
-    out = {"estimation_s": (split - i0) / sig.rate, "test_s": (i1 - split) / sig.rate,
-           "gyro_bias_est": bg, "accel_bias_est": ba}
-    for name, (dg, da) in (("raw", (0.0, 0.0)), ("out_of_sample", (bg, ba))):
-        sub = ImuSignals(sig.t[split:i1] - sig.t[split], test_g - dg, test_a - da, "rates",
-                         sig.rate, sig.g)
-        nav = navigate(sub, q0, algorithm=algorithm)
-        d = np.linalg.norm(nav.position, axis=1)
-        out[name] = {"t": nav.t, "drift": d, "final": float(d[-1])}
-    return out

@@ -29,6 +29,8 @@ from imunav.papers.records import record
 from imunav.sensors.quadrature import integrate_intervals
 from imunav.strapdown.scan import cumulative_product
 from imunav.symbolic import plaksiy as S
+from imunav.symbolic.plaksiy import seeming_turn_closed_form
+from imunav.symbolic.plaksiy import t as T_SYM
 
 #: Table 1: (α, β) → final drift (rad) at t = 1000 s, Δt = 0.1 s.
 TABLE1 = {
@@ -204,9 +206,6 @@ def vibration_check(k=PAPER_K, small_vartheta: float = 0.05, duration: float = 1
     closed form's secular term); only for a small constant ϑ is the drift k₂(1 − cos ϑ) small,
     and φ = k₁t still turns the body about axis 3 — vibration needs bounded angle laws.
     Returns the mean rate of θ over ``duration`` for both, from the closed form and quadrature."""
-    from imunav.symbolic.plaksiy import seeming_turn_closed_form
-    from imunav.symbolic.plaksiy import t as T_SYM
-
     closed = seeming_turn_closed_form(k)
     secular = [float(sp_coeff(e, T_SYM)) for e in closed]
     m = FourRotationMotion(k=k, duration=duration)
@@ -233,9 +232,6 @@ def closed_form_check(k=PAPER_K, duration: float = 1000.0, n: int = 2001) -> flo
     "analytical representations for the quasi-coordinates" checked against adaptive
     Gauss–Legendre (independent of SymPy)."""
     import sympy
-
-    from imunav.symbolic.plaksiy import seeming_turn_closed_form
-    from imunav.symbolic.plaksiy import t as T_SYM
 
     f = sympy.lambdify(T_SYM, list(seeming_turn_closed_form(k)), "numpy")
     tt = np.linspace(duration / (n - 1), duration, n - 1)

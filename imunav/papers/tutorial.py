@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from imunav.analysis import recordings as R
 from imunav.analysis.metrics import fit_order
 from imunav.core.kernels import quat_angle as _angle
 from imunav.core.kernels import quat_exp as _exp
@@ -136,8 +137,6 @@ def gyro_is_rate_real(window: float = 0.5) -> dict:
     the accelerometer) turns by some angle; integrating the gyro output *once* (as a rate)
     reproduces it, integrating it *twice* (as an acceleration, the tutorial's reading) does not.
     Returns the median |error| of each reading (deg) and the median device rotation."""
-    from imunav.io import realdata as R
-
     rec = R.read_ximu3()
     sig = rec.signals
     qd = R.device_as_q_nb(rec)

@@ -12,7 +12,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from ipywidgets import FloatSlider, interact
 
-from imunav.io import realdata as R
+from imunav.analysis import recordings as R
 
 SEED = 0
 
