@@ -1,5 +1,6 @@
-"""The package's layering: arrows only point down, no import cycles, papers imported only where
-they may be (issue 13).
+"""The package's layering: every room on its floor, arrows only point down, no import cycles,
+no import hidden in a function, no private name borrowed from another module, papers imported
+only where they may be (issues 13 and 24).
 
 Every ``import`` statement in every module is read from the source (module level and inside
 functions alike, so that no function-level import can hide a cycle).
@@ -14,25 +15,29 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1] / "imunav"
 
-#: Layer of each top-level part, from the bottom. A module may import its own layer or below.
-LAYERS = {
-    "imunav.core": 0,
-    "imunav.motion": 1,
-    "imunav.sensors": 2,
-    "imunav.strapdown": 3,
-    "imunav.analysis": 4,
-    "imunav.io": 5,
-    "imunav.symbolic": 6,
-    "imunav.papers": 6,
-    "imunav.plotting": 7,
-    "imunav.reproduce": 7,
-    "imunav.cli": 7,
-    "imunav.__main__": 8,
-    "imunav._aliases": 8,
-    "imunav": 8,                        # the package facade (imunav/__init__.py)
-}
+#: The floors, from the ground up; each room of a floor may import its own modules and the
+#: rooms of lower floors, never a room of its own floor or above. ``symbolic`` (SymPy
+#: derivations) stands on the ground floor beside ``core``: it needs nothing of imunav.
+FLOORS = [
+    {"imunav.core", "imunav.symbolic"},
+    {"imunav.motion"},
+    {"imunav.sensors"},
+    {"imunav.io", "imunav.strapdown"},
+    {"imunav.estimation"},
+    {"imunav.analysis"},
+    {"imunav.papers"},
+    {"imunav.plotting"},                   # the faces: figures, the reproductions, the CLI
+    {"imunav.reproduce"},
+    {"imunav.cli"},
+    {"imunav._aliases"},                   # deprecated module names (imports on demand)
+    {"imunav.__main__", "imunav"},         # the package facade (imunav/__init__.py)
+]
+#: Room → floor.
+LAYERS = {room: floor for floor, rooms in enumerate(FLOORS) for room in rooms}
 #: The only modules outside imunav.papers that may import it.
 PAPER_IMPORTERS = {"imunav.reproduce", "imunav.cli"}
+#: Modules whose function-level imports of imunav are their purpose (they import on demand).
+LAZY_IMPORTERS = {"imunav._aliases"}
 
 
 def _modules() -> dict[str, Path]:
@@ -48,9 +53,12 @@ def _modules() -> dict[str, Path]:
 MODULES = _modules()
 
 
+def _room(module: str) -> str:
+    return max((k for k in LAYERS if module == k or module.startswith(k + ".")), key=len)
+
+
 def _layer(module: str) -> int:
-    best = max((k for k in LAYERS if module == k or module.startswith(k + ".")), key=len)
-    return LAYERS[best]
+    return LAYERS[_room(module)]
 
 
 def _imports(module: str) -> set[str]:
@@ -78,10 +86,82 @@ def _imports(module: str) -> set[str]:
 GRAPH = {m: _imports(m) for m in MODULES}
 
 
+def test_every_module_is_in_a_room():
+    assert set(LAYERS) >= {_room(m) for m in MODULES}
+    assert all(any(m == r or m.startswith(r + ".") for m in MODULES) for r in LAYERS)
+
+
 @pytest.mark.parametrize("module", sorted(MODULES))
 def test_arrows_point_down(module):
     up = sorted(t for t in GRAPH[module] if _layer(t) > _layer(module))
-    assert not up, f"{module} (layer {_layer(module)}) imports higher layers: {up}"
+    assert not up, f"{module} (floor {_layer(module)}) imports higher floors: {up}"
+    side = sorted(t for t in GRAPH[module]
+                  if _layer(t) == _layer(module) and _room(t) != _room(module))
+    assert not side, f"{module} imports another room of its own floor: {side}"
+
+
+def _function_imports(module: str) -> list[tuple[int, str]]:
+    """``(line, module)`` of every import of imunav inside a function of ``module``."""
+    tree = ast.parse(MODULES[module].read_text())
+    found = []
+    for fn in ast.walk(tree):
+        if not isinstance(fn, ast.FunctionDef | ast.AsyncFunctionDef):
+            continue
+        for node in ast.walk(fn):
+            if isinstance(node, ast.Import):
+                names = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                names = ["." * node.level + (node.module or "")]
+            else:
+                continue
+            found += [(node.lineno, n) for n in names
+                      if n == "imunav" or n.startswith(("imunav.", "."))]
+    return found
+
+
+@pytest.mark.parametrize("module", sorted(MODULES))
+def test_no_imunav_import_inside_a_function(module):
+    """An import of imunav inside a function is either dodging a cycle (a lower module is
+    missing) or hiding a dependency from this test; both are refused."""
+    if module in LAZY_IMPORTERS:
+        return
+    bad = _function_imports(module)
+    assert not bad, f"{module} imports imunav inside a function: {bad}"
+
+
+def _private_imports(path: Path) -> list[tuple[int, str]]:
+    """``(line, "module.name")`` of every underscore name imported from an imunav module."""
+    found = []
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("imunav"):
+            found += [(node.lineno, f"{node.module}.{a.name}") for a in node.names
+                      if a.name.startswith("_") and not a.name.startswith("__")
+                      and f"{node.module}.{a.name}" not in MODULES]
+    return found
+
+
+SOURCES = sorted(MODULES.values()) + sorted((ROOT.parent / "notebooks" / "src").glob("*.py"))
+
+
+@pytest.mark.parametrize("path", SOURCES, ids=lambda p: p.name)
+def test_no_module_imports_a_private_name_of_another(path):
+    """Kernels and helpers that other modules need have public names (issue 24): a module
+    never reaches into another's underscore names."""
+    bad = _private_imports(path)
+    assert not bad, f"{path.name} imports private names: {bad}"
+
+
+def test_the_import_checks_see_planted_offenders(tmp_path):
+    planted = tmp_path / "m.py"
+    planted.write_text("from imunav.core.kernels import quat_mul as _mul\n"
+                       "from imunav.core.rotations import _secret\n"
+                       "def f():\n    from imunav.core import kernels\n    import numpy\n")
+    assert _private_imports(planted) == [(2, "imunav.core.rotations._secret")]
+    MODULES["imunav.planted"] = planted
+    try:
+        assert _function_imports("imunav.planted") == [(4, "imunav.core")]
+    finally:
+        del MODULES["imunav.planted"]
 
 
 @pytest.mark.parametrize("module", sorted(MODULES))
@@ -121,7 +201,8 @@ def test_every_module_says_what_it_owns_and_may_import():
 
 def test_the_checker_sees_a_planted_cycle_and_an_upward_import():
     # the test's own machinery, on a graph with a known cycle and a known upward arrow
-    assert _layer("imunav.strapdown.highorder") == 3 and _layer("imunav.io.files") == 5
+    assert _layer("imunav.strapdown.highorder") == 3 and _layer("imunav.io.files") == 3
+    assert _layer("imunav.symbolic.trig") == 0 and _layer("imunav.estimation.kalman") == 4
     graph = {"a": {"b"}, "b": {"c"}, "c": {"a"}}
     with pytest.raises(AssertionError, match="import cycle: a → b → c → a"):
         saved = dict(GRAPH)

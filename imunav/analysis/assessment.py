@@ -155,7 +155,7 @@ def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, toleranc
     tolerance = check_positive(tolerance, "tolerance")
     cov = covariance(motion, model, rate, duration, output=output)
     r = verdict_covariance(cov, tolerance, min_sample_rate(motion, tolerance, duration, output),
-                           motion=getattr(motion, "name", "motion"), imu=model.name)
+                           motion=motion.name, imu=model.name)
     det = deterministic_error(motion, model, rate, duration, output)
     r["deterministic_position_m"] = None if det is None else det[0]
     if det is not None and det[0] > SAMPLING_SHARE * tolerance:
@@ -185,7 +185,7 @@ def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int, toleranc
                                 scheduler=scheduler, progress=False)
               for term in model.terms()}
     return verdict(mc, tolerance, budget, min_sample_rate(motion, tolerance, duration, output),
-                   motion=getattr(motion, "name", "motion"), imu=model.name, seed=seed)
+                   motion=motion.name, imu=model.name, seed=seed)
 
 
 def format_verdict(r: dict) -> str:

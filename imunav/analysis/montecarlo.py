@@ -50,21 +50,61 @@ class MonteCarloResult:
         return {p: np.percentile(a, p, axis=0) for p in q}
 
 
-def _mc_chunk(gyro, accel, kind, sim_rate, k, model, seeds, q0, v0, p0, g, truth_p, truth_v,
-              truth_q, rate, algorithm):
+@dataclass
+class MonteCarloTask:
+    """What every chunk of runs shares (sent once per chunk to a Dask worker).
+
+    Attributes
+    ----------
+    gyro, accel : ndarray, shape (M, 3)
+        The ideal signals at the sensor's internal rate.
+    kind : {"rates", "increments"}
+    sim_rate : float
+        The internal rate (Hz) of ``gyro``/``accel``.
+    decimate : int
+        Internal samples per output sample.
+    model : ImuModel
+    rate : float
+        Output rate (Hz).
+    g : float
+        Gravity magnitude (m/s²).
+    truth_q, truth_v, truth_p : ndarray
+        The true attitude (N, 4), velocity and position (N, 3) at the output states' times; the
+        first rows are every run's initial state.
+    algorithm : str or None
+        The strapdown algorithm (None: the registry's default).
+    """
+
+    gyro: FloatArray
+    accel: FloatArray
+    kind: str
+    sim_rate: float
+    decimate: int
+    model: ImuModel
+    rate: float
+    g: float
+    truth_q: FloatArray
+    truth_v: FloatArray
+    truth_p: FloatArray
+    algorithm: str | None = None
+
+
+def _mc_chunk(task: MonteCarloTask, seeds) -> tuple[FloatArray, FloatArray, FloatArray, np.ndarray]:
     """One chunk of runs (module-level and picklable: a Dask task)."""
     G, A, S = [], [], []
     for ss in seeds:
-        gm, am, flags = measure(model, gyro, accel, kind, sim_rate, np.random.default_rng(ss), k)
+        gm, am, flags = measure(task.model, task.gyro, task.accel, task.kind, task.sim_rate,
+                                np.random.default_rng(ss), task.decimate)
         G.append(gm)
         A.append(am)
         S.append(int(flags.sum()))
     G = np.stack(G, axis=1)
     A = np.stack(A, axis=1)                                   # (N, R, 3)
-    q, v, p = navigate_batch(kind, G, A, rate, q0, v0, p0, g, algorithm=algorithm)
-    pos = np.linalg.norm(p - truth_p[:, None], axis=-1).T
-    vel = np.linalg.norm(v - truth_v[:, None], axis=-1).T
-    att = quat_angle(q, truth_q[:, None]).T
+    q, v, p = navigate_batch(task.kind, G, A, task.rate, task.truth_q[0], task.truth_v[0],
+                             task.truth_p[0], task.g, algorithm=task.algorithm)
+    pos = np.linalg.norm(p - task.truth_p[:, None], axis=-1).T
+    vel = np.linalg.norm(v - task.truth_v[:, None], axis=-1).T
+    att = quat_angle(q, task.truth_q[:, None]).T
     return pos, vel, att, np.array(S)
 
 
@@ -94,21 +134,22 @@ def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: floa
     truth_q, truth_v, truth_p = motion.attitude(t), motion.velocity(t), motion.position(t)
     seeds = np.random.SeedSequence(seed).spawn(runs)
     parts = [seeds[i:i + chunk] for i in range(0, runs, chunk)]
-    args = (sim.gyro, sim.accel, output, rate * k, k, model)
-    tail = (truth_q[0], truth_v[0], truth_p[0], g, truth_p, truth_v, truth_q, rate, algorithm)
+    task = MonteCarloTask(sim.gyro, sim.accel, output, rate * k, k, model, rate, g, truth_q,
+                          truth_v, truth_p, algorithm)
     if scheduler:
         try:
             from dask.distributed import Client
         except ImportError:
-            raise ImunavError("--scheduler needs the dask extra: pip install 'imunav[dask]'") from None
+            raise ImunavError("scheduler needs the dask extra: pip install 'imunav[dask]'",
+                              argument="scheduler") from None
         with Client(scheduler) as client:
-            futs = [client.submit(_mc_chunk, *args, part, *tail, pure=False) for part in parts]
+            futs = [client.submit(_mc_chunk, task, part, pure=False) for part in parts]
             results = client.gather(futs)
     else:
         results = []
         bar = _progress(len(parts), runs * n_out, progress)
         for part in parts:
-            results.append(_mc_chunk(*args, part, *tail))
+            results.append(_mc_chunk(task, part))
             if bar is not None:
                 bar.update(1)
         if bar is not None:

@@ -17,7 +17,7 @@ from imunav.core.constants import G0
 from imunav.core.kernels import quat_conj, quat_rotate, quat_to_dcm
 from imunav.core.rotations import FloatArray, quat_to_euler
 from imunav.core.states import States
-from imunav.core.validation import as_float_array, check_gravity
+from imunav.core.validation import ImunavError, as_float_array, check_gravity, check_positive
 
 
 class BaseMotion:
@@ -31,7 +31,16 @@ class BaseMotion:
 
     #: Default duration (s) used by the CLI and notebooks when none is given.
     duration: float | None = None
+    #: A name for reports and plots.
     name: str = "motion"
+    #: True for a motion defined only on ``[0, duration]`` (data: poses, waypoints): it is never
+    #: run past its end (:func:`span`).
+    bounded: bool = False
+    #: Times (s) where the motion is only piecewise smooth (a spline's knots), or None: the
+    #: exact increments are integrated piece by piece between them.
+    breakpoints: FloatArray | None = None
+    #: Time (s) in the source data of the motion's t = 0 (the first pose or waypoint).
+    time_offset: float = 0.0
 
     def position(self, t: npt.ArrayLike) -> FloatArray:
         """Position ``r_n`` (m)."""
@@ -82,18 +91,16 @@ def span(motion: BaseMotion, rate: float, duration: float | None = None) -> floa
     is never run past its end: the number of intervals is at most ``⌊duration × rate⌋``, so
     the last sample falls inside the data (the usual rule elsewhere is ``round``).
     """
-    from imunav.core.validation import ImunavError, check_positive
-
     rate = check_positive(rate, "rate")
     d = motion.duration if duration is None else duration
     if d is None:
         raise ImunavError("duration must be given (the motion has no default duration)")
     d = check_positive(d, "duration")
-    if getattr(motion, "bounded", False):
+    if motion.bounded:
         n_max = int(np.floor(motion.duration * rate + 1e-9))
         n = min(int(round(d * rate)), n_max)
         if n < 1:
-            raise ImunavError(f"{getattr(motion, 'name', 'motion')}: {motion.duration:g} s of "
+            raise ImunavError(f"{motion.name}: {motion.duration:g} s of "
                               f"data hold no whole sample interval at {rate:g} Hz")
         d = n / rate
     return d
