@@ -25,13 +25,15 @@ Units
     at its boundary.
 
 
-Layers
+Floors
 ------
-``core`` (constants, units, checks, rotations, states) → ``motion`` → ``sensors`` (signals,
-simulation, error models) → ``strapdown`` (scan, algorithms, registry) → ``analysis``
-(metrics, round trips, Monte Carlo, verdict) → ``io`` (files, real recordings) → ``papers`` →
-faces (``cli``, ``reproduce``, ``plotting``). A module imports only from its own layer or
-below (``tests/test_layering.py``).
+``core`` (constants, units, checks, rotations and their kernels, states) and ``symbolic`` →
+``motion`` → ``sensors`` (signals, simulation, the error terms and models) → ``io`` (files,
+readers of recordings) and ``strapdown`` (scan, algorithms, registry) → ``estimation`` (the
+navigation error model, discretisation, propagation, Kalman steps) → ``analysis`` (metrics,
+round trips, Monte Carlo, covariance, verdict, design, recordings) → ``papers`` → faces
+(``plotting``, ``reproduce``, ``cli``). A module imports only from lower floors
+(``tests/test_layering.py``; ``docs/architecture.md`` says where a change goes).
 
 May import: anything in imunav (this is the package's facade: it exports what the README uses).
 """

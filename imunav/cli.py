@@ -54,11 +54,13 @@ from imunav.strapdown.registry import ALGORITHMS, navigate, navigate_chunks, res
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):  # argparse's own usage errors: same one-line form, status 2
+        """argparse's own usage errors: the same one-line form, status 2."""
         self.exit(2, f"imunav: error: {message}\n")
 
 
 def _positive(name):
     def conv(text):
+        """Convert the option's text, or an argparse error naming it."""
         try:
             return check_positive(float(text), name)
         except ValueError:
@@ -72,6 +74,7 @@ def _positive(name):
 
 def _integer(name, minimum):
     def conv(text):
+        """Convert the option's text, or an argparse error naming it."""
         try:
             v = int(text)
         except ValueError:
@@ -85,6 +88,7 @@ def _integer(name, minimum):
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of every command (``imunav --help``)."""
     p = _Parser(prog="imunav", description=__doc__.splitlines()[0])
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
     presets = ", ".join(PRESETS)
@@ -200,6 +204,7 @@ def _imu(spec: str | None) -> tuple[ImuModel | None, list]:
 
 
 def cmd_simulate(args) -> int:
+    """``imunav simulate``: stream the signals (and ``--truth``) of a motion to CSV."""
     model, imu_files = _imu(args.imu)
     out = check_outputs({"--out": args.out, "--truth": args.truth}, [args.motion, *imu_files])
     motion, duration, g_file = _motion(args)
@@ -232,6 +237,7 @@ def cmd_simulate(args) -> int:
 
 
 def cmd_assess(args) -> int:
+    """``imunav assess``: the verdict, by covariance analysis or Monte Carlo."""
     model, imu_files = _imu(args.imu)
     out = check_outputs({"--json": args.json}, [args.motion, *imu_files])
     method = args.method or ("montecarlo" if args.runs is not None else "covariance")
@@ -255,6 +261,7 @@ def cmd_assess(args) -> int:
 
 
 def cmd_design(args) -> int:
+    """``imunav design``: the worst IMU that still meets the tolerance."""
     model, imu_files = _imu(args.imu)
     out = check_outputs({"--json": args.json}, [args.motion, *imu_files])
     motion, duration, g_file = _motion(args)
@@ -266,6 +273,7 @@ def cmd_design(args) -> int:
 
 
 def cmd_allan(args) -> int:
+    """``imunav allan``: fit an IMU model to a static log's Allan deviation."""
     out = check_outputs({"--fit": args.fit, "--plot": args.plot}, [args.log])
     if args.format == "imunav":
         f = SignalFile(args.log)
@@ -294,6 +302,7 @@ def _check_algorithm(kind: str, name: str | None) -> None:
 
 
 def cmd_navigate(args) -> int:
+    """``imunav navigate``: stream a signals CSV (or a recording) through a strapdown algorithm."""
     out = check_outputs({"--out": args.out}, [args.signals, args.initial])
     if args.format != "imunav":
         return _navigate_recording(args, out["--out"])
@@ -352,6 +361,7 @@ def _read_recording(args):
 
 
 def cmd_reproduce(args) -> int:
+    """``imunav reproduce``: every reproduction figure and record."""
     records = reproduce_all(args.out)
     print(format_table(records))
     return 0
@@ -370,6 +380,7 @@ def _warning_line(message, category, filename, lineno, file=None, line=None):
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The command line: parse ``argv``, run the command, map errors to one line and an exit status."""
     try:
         args = build_parser().parse_args(argv)
     except SystemExit as exc:                                # usage errors (2), --help (0)

@@ -1,4 +1,4 @@
-"""Layer 4 — analysis: how far navigation drifts from the truth, and whether an IMU is good
+"""Floor 5 — analysis: how far navigation drifts from the truth, and whether an IMU is good
 enough.
 
 Modules: :mod:`~imunav.analysis.metrics` (errors against the truth, fitted orders),
@@ -6,9 +6,11 @@ Modules: :mod:`~imunav.analysis.metrics` (errors against the truth, fitted order
 (the algorithm family on benchmarks), :mod:`~imunav.analysis.montecarlo`,
 :mod:`~imunav.analysis.assessment` (the verdict), :mod:`~imunav.analysis.covariance` (linear
 covariance analysis, with :mod:`~imunav.analysis.gaussnorm` for the percentiles of the error
-norm), :mod:`~imunav.analysis.design` (the worst IMU that still meets a tolerance).
+norm), :mod:`~imunav.analysis.design` (the worst IMU that still meets a tolerance),
+:mod:`~imunav.analysis.recordings` (analyses of real recordings).
 
-May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``, ``imunav.strapdown``.
+May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``, ``imunav.io``,
+``imunav.strapdown``, ``imunav.estimation``.
 """
 
 from imunav.analysis.assessment import (

@@ -36,6 +36,25 @@ def quat_mul(p: npt.ArrayLike, q: npt.ArrayLike) -> FloatArray:
 
     ``i ⊗ j = k``, ``j ⊗ i = −k``, ``i ⊗ j ⊗ k = −1``. The rotation ``p ⊗ q`` applies ``q``
     first, then ``p`` (as matrices: ``C(p ⊗ q) = C(p) C(q)``).
+
+    Parameters
+    ----------
+    p, q : array_like, shape (..., 4)
+        Quaternions ``[w, x, y, z]`` (any norm; the product of unit quaternions is unit).
+
+    Returns
+    -------
+    ndarray, shape (..., 4)
+
+    Raises
+    ------
+    ImunavError
+        If either is not numeric, finite, with a last axis of 4.
+
+    Examples
+    --------
+    >>> quat_mul([0, 1, 0, 0], [0, 0, 1, 0])          # i ⊗ j = k
+    array([0., 0., 0., 1.])
     """
     p = as_float_array(p, "p", last=4)
     q = as_float_array(q, "q", last=4)
@@ -43,14 +62,43 @@ def quat_mul(p: npt.ArrayLike, q: npt.ArrayLike) -> FloatArray:
 
 
 def quat_conj(q: npt.ArrayLike) -> FloatArray:
-    """Conjugate ``q* = [w, −x, −y, −z]`` (the inverse of a unit quaternion)."""
+    """Conjugate ``q* = [w, −x, −y, −z]`` (the inverse of a unit quaternion).
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+
+    Returns
+    -------
+    ndarray, shape (..., 4)
+
+    Raises
+    ------
+    ImunavError
+        If ``q`` is not numeric, finite, with a last axis of 4.
+    """
     q = as_float_array(q, "q", last=4)
     return K.quat_conj(q)
 
 
 def quat_normalize(q: npt.ArrayLike, name: str = "q") -> FloatArray:
-    """Scale ``q`` to unit norm; a zero quaternion is an error (``name`` is the argument the
-    error message names)."""
+    """Scale ``q`` to unit norm.
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+    name : str
+        The argument the error message names.
+
+    Returns
+    -------
+    ndarray, shape (..., 4)
+
+    Raises
+    ------
+    ImunavError
+        If ``q`` is not a finite (..., 4) array, or one of them is zero.
+    """
     q = as_float_array(q, name, last=4)
     n = np.linalg.norm(q, axis=-1, keepdims=True)
     if np.any(n == 0):
@@ -59,9 +107,30 @@ def quat_normalize(q: npt.ArrayLike, name: str = "q") -> FloatArray:
 
 
 def quat_rotate(q: npt.ArrayLike, v: npt.ArrayLike) -> FloatArray:
-    """Rotate vectors: ``q ⊗ [0, v] ⊗ q*`` for unit ``q`` (shape ``(..., 3)``).
+    """Rotate vectors: ``q ⊗ [0, v] ⊗ q*`` for unit ``q`` (``q`` is normalised first).
 
     With ``q = q_nb`` this takes body-frame vectors to the navigation frame.
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+    v : array_like, shape (..., 3)
+        Broadcast against ``q``'s leading axes.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+
+    Raises
+    ------
+    ImunavError
+        For arrays of the wrong shape, non-finite values or a zero quaternion.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> np.round(quat_rotate([np.cos(np.pi / 4), 0, 0, np.sin(np.pi / 4)], [1.0, 0, 0]), 12)
+    array([0., 1., 0.])
     """
     q = quat_normalize(q)
     v = as_float_array(v, "v", last=3)
@@ -69,7 +138,23 @@ def quat_rotate(q: npt.ArrayLike, v: npt.ArrayLike) -> FloatArray:
 
 
 def quat_to_dcm(q: npt.ArrayLike) -> FloatArray:
-    """Direction cosine matrix ``C`` with ``C @ v == quat_rotate(q, v)``; shape ``(..., 3, 3)``."""
+    """Direction cosine matrix ``C`` with ``C @ v == quat_rotate(q, v)``.
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+        Normalised first.
+
+    Returns
+    -------
+    ndarray, shape (..., 3, 3)
+        ``C_nb`` for ``q = q_nb``.
+
+    Raises
+    ------
+    ImunavError
+        For a wrong shape, non-finite values or a zero quaternion.
+    """
     q = quat_normalize(q)
     return K.quat_to_dcm(q)
 
@@ -77,7 +162,20 @@ def quat_to_dcm(q: npt.ArrayLike) -> FloatArray:
 def quat_from_dcm(c: npt.ArrayLike, *, atol: float = 1e-6) -> FloatArray:
     """Unit quaternion (``w ≥ 0``) of a rotation matrix, by Shepperd's method.
 
-    Raises if ``c`` is not a proper rotation (``cᵀc = I`` and ``det c = +1`` within ``atol``).
+    Parameters
+    ----------
+    c : array_like, shape (..., 3, 3)
+    atol : float
+        Tolerance of the orthonormality and determinant checks.
+
+    Returns
+    -------
+    ndarray, shape (..., 4)
+
+    Raises
+    ------
+    ImunavError
+        If ``c`` is not a proper rotation (``cᵀc = I`` and ``det c = +1`` within ``atol``).
     """
     c = as_float_array(c, "c", min_ndim=2)
     if c.shape[-2:] != (3, 3):
@@ -116,9 +214,23 @@ def quat_from_dcm(c: npt.ArrayLike, *, atol: float = 1e-6) -> FloatArray:
 
 
 def euler_to_quat(ypr: npt.ArrayLike) -> FloatArray:
-    """Quaternion ``q_nb = q_z(ψ) ⊗ q_y(θ) ⊗ q_x(φ)`` from ``ypr = [yaw ψ, pitch θ, roll φ]`` (rad).
+    """Quaternion ``q_nb = q_z(ψ) ⊗ q_y(θ) ⊗ q_x(φ)`` of Z-Y-X Euler angles.
 
     Intrinsic Z-Y-X: the same rotation as ``Rotation.from_euler("ZYX", [ψ, θ, φ])``.
+
+    Parameters
+    ----------
+    ypr : array_like, shape (..., 3)
+        ``[yaw ψ, pitch θ, roll φ]`` (rad).
+
+    Returns
+    -------
+    ndarray, shape (..., 4)
+
+    Raises
+    ------
+    ImunavError
+        If ``ypr`` is not a finite (..., 3) array.
     """
     ypr = as_float_array(ypr, "ypr", last=3)
     return K.quat_mul(K.quat_mul(K.axis_quat(ypr[..., 0], 3), K.axis_quat(ypr[..., 1], 2)),
@@ -126,10 +238,23 @@ def euler_to_quat(ypr: npt.ArrayLike) -> FloatArray:
 
 
 def quat_to_euler(q: npt.ArrayLike) -> FloatArray:
-    """``[yaw ψ, pitch θ, roll φ]`` (rad, intrinsic Z-Y-X) of ``q_nb``; shape ``(..., 3)``.
+    """``[yaw ψ, pitch θ, roll φ]`` (rad, intrinsic Z-Y-X) of ``q_nb``.
 
     ψ, φ ∈ (−π, π], θ ∈ [−π/2, π/2]. At gimbal lock (``|cos θ| < GIMBAL_LOCK_TOL``) only
     ψ ∓ φ is defined: φ is set to 0 and a :class:`GimbalLockWarning` is issued.
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+
+    Raises
+    ------
+    ImunavError
+        For a wrong shape, non-finite values or a zero quaternion.
     """
     q = quat_normalize(q)
     w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
@@ -158,6 +283,19 @@ def quat_exp(rotvec: npt.ArrayLike) -> FloatArray:
     """Unit quaternion of a rotation vector ``φ`` (rad): ``[cos(|φ|/2), sin(|φ|/2) φ/|φ|]``.
 
     Exact at ``φ = 0`` (uses ``sin(a/2)/a = sinc(a/2π)/2``, no division by zero).
+
+    Parameters
+    ----------
+    rotvec : array_like, shape (..., 3)
+
+    Returns
+    -------
+    ndarray, shape (..., 4)
+
+    Raises
+    ------
+    ImunavError
+        If ``rotvec`` is not a finite (..., 3) array.
     """
     v = as_float_array(rotvec, "rotvec", last=3)
     return K.quat_exp(v)
@@ -168,6 +306,20 @@ def quat_log(q: npt.ArrayLike) -> FloatArray:
 
     Uses ``angle = 2 atan2(|v|, |w|)``, accurate to full precision for small angles and
     for ``|w|`` slightly above 1; the zero rotation gives exactly 0.
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+        Normalised first.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+
+    Raises
+    ------
+    ImunavError
+        For a wrong shape, non-finite values or a zero quaternion.
     """
     q = quat_normalize(q)
     return K.quat_log(q)
@@ -179,6 +331,20 @@ def quat_angle(p: npt.ArrayLike, q: npt.ArrayLike) -> FloatArray:
     Sign-insensitive (``quat_angle(q, −q) == 0``), symmetric, and computed as
     ``2 atan2(|vec|, |w|)`` so that angles far below 1e-8 rad are resolved (an
     ``arccos``-based angle floors near 1e-8 rad).
+
+    Parameters
+    ----------
+    p, q : array_like, shape (..., 4)
+        Normalised first; broadcast against each other.
+
+    Returns
+    -------
+    ndarray, shape (...)
+
+    Raises
+    ------
+    ImunavError
+        For a wrong shape, non-finite values or a zero quaternion.
     """
     return K.quat_angle(quat_normalize(p, "p"), quat_normalize(q, "q"))
 
@@ -189,12 +355,35 @@ def skew(v: npt.ArrayLike) -> FloatArray:
 
 
 def to_scipy(q: npt.ArrayLike):
-    """``scipy.spatial.transform.Rotation`` of scalar-first ``q`` (flag passed explicitly)."""
+    """``scipy.spatial.transform.Rotation`` of scalar-first ``q`` (flag passed explicitly).
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+
+    Returns
+    -------
+    scipy.spatial.transform.Rotation
+
+    Raises
+    ------
+    ImunavError
+        For a wrong shape, non-finite values or a zero quaternion.
+    """
     from scipy.spatial.transform import Rotation
 
     return Rotation.from_quat(quat_normalize(q), scalar_first=True)
 
 
 def from_scipy(rotation) -> FloatArray:
-    """Scalar-first quaternion(s) ``[w, x, y, z]`` of a scipy ``Rotation``."""
+    """Scalar-first quaternion(s) ``[w, x, y, z]`` of a scipy ``Rotation``.
+
+    Parameters
+    ----------
+    rotation : scipy.spatial.transform.Rotation
+
+    Returns
+    -------
+    ndarray, shape (4,) or (N, 4)
+    """
     return np.asarray(rotation.as_quat(scalar_first=True), dtype=np.float64)

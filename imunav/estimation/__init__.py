@@ -1,4 +1,4 @@
-"""Layer 4 — estimation: the navigation error model and the generic Kalman steps, shared by the
+"""Floor 4 — estimation: the navigation error model and the generic Kalman steps, shared by the
 covariance analysis and (next) the aided filters.
 
 Modules: :mod:`~imunav.estimation.error_model` (the error state, its dynamics along a

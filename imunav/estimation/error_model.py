@@ -130,12 +130,33 @@ class Trajectory:
 
     def piece(self, lo: int, hi: int) -> Trajectory:
         """Steps ``lo … hi − 1`` (and their end times ``t_lo … t_hi``) as a trajectory of their
-        own: what chunked propagation works on."""
+        own: what chunked propagation works on.
+
+        Parameters
+        ----------
+        lo, hi : int
+            The steps, ``0 ≤ lo < hi ≤ N``.
+
+        Returns
+        -------
+        Trajectory
+            Views into this one's arrays; the range peaks are this one's.
+        """
         return Trajectory(self.h, self.t[lo:hi + 1], self.C[lo:hi], self.f_n[lo:hi],
                           self.omega[lo:hi], self.f_b[lo:hi], self.max_rate, self.max_force)
 
     def measured(self, triad: str) -> FloatArray:
-        """What ``triad`` measures over the steps: ``ω_b`` (gyro) or ``f_b`` (accel)."""
+        """What ``triad`` measures over the steps.
+
+        Parameters
+        ----------
+        triad : {"gyro", "accel"}
+
+        Returns
+        -------
+        ndarray, shape (N, 3)
+            ``ω_b`` (gyro) or ``f_b`` (accel).
+        """
         return self.omega if triad == "gyro" else self.f_b
 
 
@@ -170,15 +191,27 @@ class ErrorSource:
         return bool(self.states.differenced_white)
 
     def initial_covariance(self) -> FloatArray:
-        """``P₀`` of ``[e, x]``: the navigation errors 0, the sensor states ``states.P0``."""
+        """``P₀`` of ``[e, x]``: the navigation errors 0, the sensor states ``states.P0``.
+
+        Returns
+        -------
+        ndarray, shape (9 + k, 9 + k)
+        """
         k = self.size
         P0 = np.zeros((NAV + k, NAV + k))
         P0[NAV:, NAV:] = self.states.P0
         return P0
 
     def noise_psd(self) -> FloatArray:
-        """Diagonal PSD ``Qc`` (9 + k,) of the white inputs: the triad's white noise on its
-        navigation rows (isotropic, so ``C Q Cᵀ = Q``), the driving noise of the sensor states."""
+        """Diagonal PSD ``Qc`` of the white inputs.
+
+        The triad's white noise on its navigation rows (isotropic, so ``C Q Cᵀ = Q``), then the
+        driving noise of the sensor states.
+
+        Returns
+        -------
+        ndarray, shape (9 + k,)
+        """
         q = np.zeros(NAV)
         q[TRIAD_ROWS[self.states.triad]] = self.states.white_psd
         return np.concatenate([q, self.states.Qs])
@@ -211,8 +244,19 @@ class FlatErrorModel:
         return A
 
     def sensor_input(self, traj: Trajectory, states: SensorErrorStates) -> FloatArray:
-        """``B`` (N, 9, k): how the sensor states drive the navigation errors, ``−C M`` into φ
-        (gyro) or ``C M`` into δv (accel), ``M`` the term's input matrix over the steps."""
+        """``B``: how the sensor states drive the navigation errors.
+
+        ``−C M`` into φ (gyro) or ``C M`` into δv (accel), ``M`` the term's input matrix over the steps.
+
+        Parameters
+        ----------
+        traj : Trajectory
+        states : SensorErrorStates
+
+        Returns
+        -------
+        ndarray, shape (N, 9, k)
+        """
         M = states.input_matrix(traj.measured(states.triad), traj.f_b)
         B = np.zeros((M.shape[0], NAV, M.shape[2]))
         CM = traj.C @ M
@@ -223,8 +267,18 @@ class FlatErrorModel:
         return B
 
     def noise_input(self, traj: Trajectory) -> FloatArray:
-        """``G`` (N, 9, 6): the gyro and accelerometer white noises ``[w_g, w_a]`` into the
-        navigation errors (``−C`` into φ, ``C`` into δv)."""
+        """``G``: the gyro and accelerometer white noises ``[w_g, w_a]`` into the navigation errors.
+
+        ``−C`` into φ, ``C`` into δv.
+
+        Parameters
+        ----------
+        traj : Trajectory
+
+        Returns
+        -------
+        ndarray, shape (N, 9, 6)
+        """
         G = np.zeros((traj.steps, NAV, 6))
         G[:, PHI, 0:3] = -traj.C
         G[:, DV, 3:6] = traj.C
@@ -255,8 +309,22 @@ class FlatErrorModel:
 
     def transition(self, traj: Trajectory, B: FloatArray, D: FloatArray, h: float
                    ) -> FloatArray:
-        """The exact transition ``Φ`` (N, 9 + k, 9 + k) over a step ``h`` of the system with
-        sensor input ``B`` (N, 9, k) and sensor decay rates ``D`` (k,)."""
+        """The exact transition ``Φ`` over a step ``h`` (closed form: ``A³ = 0``).
+
+        Parameters
+        ----------
+        traj : Trajectory
+        B : ndarray, shape (N, 9, k)
+            Sensor-state input of the navigation errors.
+        D : ndarray, shape (k,)
+            Decay rates of the sensor states.
+        h : float
+            The step (s).
+
+        Returns
+        -------
+        ndarray, shape (N, 9 + k, 9 + k)
+        """
         return flat_transition(skew(traj.f_n), B, D, h)
 
     def discretise(self, traj: Trajectory, source: ErrorSource, h: float | None = None
@@ -288,9 +356,23 @@ class FlatErrorModel:
 
     def discretise_generic(self, traj: Trajectory, source: ErrorSource, h: float
                            ) -> tuple[FloatArray, FloatArray]:
-        """The same discrete system by Van Loan's matrix exponential of the continuous one
-        (:func:`~imunav.estimation.discretisation.van_loan`): what a model whose ``A`` is not
-        nilpotent (the rotating Earth) uses; here the independent check of :meth:`discretise`."""
+        """The discrete system of :meth:`discretise` by Van Loan's matrix exponential.
+
+        What a model whose ``A`` is not nilpotent (the rotating Earth) uses
+        (:func:`~imunav.estimation.discretisation.van_loan`); here the independent check of
+        :meth:`discretise`.
+
+        Parameters
+        ----------
+        traj : Trajectory
+        source : ErrorSource
+        h : float
+            The step (s).
+
+        Returns
+        -------
+        Phi, Qd : ndarray, shape (N, 9 + k, 9 + k)
+        """
         F, Qc = self.dynamics(traj, source)
         return van_loan(F, Qc, h)
 

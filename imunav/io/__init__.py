@@ -1,11 +1,12 @@
-"""Layer 5 — files: motion files (MOTION.toml, pose CSV, waypoints TOML), the
-signal/truth/navigation CSVs, result JSON, and real
-recordings (x-io x-IMU3, x-IMU, generic CSV).
+"""Floor 3 (beside strapdown) — files: motion files (MOTION.toml, pose CSV, waypoints TOML),
+the signal/truth/navigation CSVs, result JSON, and readers of real recordings (x-io x-IMU3,
+x-IMU, generic CSV). It reads and writes; what is computed from recordings is
+:mod:`imunav.analysis.recordings`.
 
-Modules: :mod:`~imunav.io.files`, :mod:`~imunav.io.realdata`.
+Modules: :mod:`~imunav.io.files`, :mod:`~imunav.io.csvio`, :mod:`~imunav.io.paths`,
+:mod:`~imunav.io.realdata`.
 
-May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``, ``imunav.strapdown``,
-``imunav.analysis``.
+May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``.
 """
 
 from imunav.io.files import (

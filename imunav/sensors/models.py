@@ -90,7 +90,12 @@ class TriadModel:
         return f"TriadModel({shown})"
 
     def values(self) -> dict[str, float | None]:
-        """Every parameter and its value (defaults included), in registry order."""
+        """Every parameter and its value (defaults included), in registry order.
+
+        Returns
+        -------
+        dict
+        """
         return {k: getattr(self, k) for k in _known()}
 
     @classmethod
@@ -123,13 +128,31 @@ class TriadModel:
         return cls(**{k: parse(v, f"{triad}.{k}") for k, v in d.items()})
 
     def active(self) -> list[str]:
-        """The error terms present, in registry order (settings such as the internal rate,
-        which are no error of their own, are not listed)."""
+        """The error terms present, in registry order.
+
+        Settings such as the internal rate, which are no error of their own, are not listed.
+
+        Returns
+        -------
+        list of str
+        """
         return [t.name for t in TERMS.values() if t.is_error and t.present(self)]
 
     def only(self, term: str | None) -> TriadModel:
-        """A copy keeping only ``term`` (with the qualifiers such as its correlation time, and
-        the settings such as the internal rate); None → ideal."""
+        """A copy keeping only ``term``.
+
+        With the qualifiers such as its correlation time, and the settings such as the internal
+        rate: what the error budget of one term needs.
+
+        Parameters
+        ----------
+        term : str or None
+            A term name (``"bias"``); None → ideal.
+
+        Returns
+        -------
+        TriadModel
+        """
         keep = {p.key for t in TERMS.values() for p in t.parameters_
                 if p.qualifier or not t.is_error} | ({term} if term else set())
         return TriadModel(**{k: v for k, v in self._values.items() if k in keep})
@@ -189,7 +212,13 @@ class ImuModel:
                           "TOML file", argument="imu")
 
     def terms(self) -> list[str]:
-        """Active terms as ``gyro.noise_density`` etc."""
+        """Active terms as ``gyro.noise_density`` etc.
+
+        Returns
+        -------
+        list of str
+            The gyro's, then the accelerometer's, in registry order.
+        """
         return [f"gyro.{t}" for t in self.gyro.active()] + \
                [f"accel.{t}" for t in self.accel.active()]
 

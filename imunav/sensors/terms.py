@@ -228,11 +228,30 @@ class Term:
 
     # ------------------------------------------------------------------ values and units
     def value(self, model) -> float | None:
-        """The term's main value in ``model`` (a TriadModel), SI."""
+        """The term's main value in ``model``.
+
+        Parameters
+        ----------
+        model : TriadModel
+
+        Returns
+        -------
+        float or None
+            SI.
+        """
         return getattr(model, self.name)
 
     def present(self, model) -> bool:
-        """Whether ``model`` has this term (its value neither 0 nor None)."""
+        """Whether ``model`` has this term (its value neither 0 nor None).
+
+        Parameters
+        ----------
+        model : TriadModel
+
+        Returns
+        -------
+        bool
+        """
         return self.value(model) not in (None, 0.0)
 
     def show(self, si: float, triad: str, *, digits: int = 3, typographic: bool = False) -> str:
@@ -262,14 +281,38 @@ class Term:
         return f"{si / factor:.{digits}g} {pretty if typographic else unit}"
 
     def si_unit(self, triad: str) -> str:
-        """The SI unit of the main value, as written beside it in a fitted ``IMU.toml``."""
+        """The SI unit of the main value, as written beside it in a fitted ``IMU.toml``.
+
+        Parameters
+        ----------
+        triad : {"gyro", "accel"}
+
+        Returns
+        -------
+        str
+        """
         return self.display[triad][2]
 
     # ------------------------------------------------------------------ realisation
     def start(self, model, stream, rng: np.random.Generator):
-        """Draw what one run of this term needs when its stream starts (constants from
-        ``rng``; a process spawns its own child generator). Returns the term's run state
-        (None if it needs none)."""
+        """Draw what one run of this term needs when its stream starts.
+
+        Constants come from ``rng``; a process spawns its own child generator, so that the run does not
+        depend on how it is chunked.
+
+        Parameters
+        ----------
+        model : TriadModel
+        stream : TriadStream
+            Its ``rate``, ``dt``, ``kind`` and decimation ``k``.
+        rng : numpy.random.Generator
+            The run's generator.
+
+        Returns
+        -------
+        object
+            The term's run state, handed back to its stage hook (None if it needs none).
+        """
         return None
 
     # ------------------------------------------------------------------ linearisation
@@ -432,7 +475,8 @@ class BiasInstability(Term):
         D = np.repeat([-1.0 / T for T in bank], 3)
         Qs = np.repeat([2 * s * s / T for T in bank], 3)
 
-        def each_component(u, f):                                   # δ = Σ components
+        def each_component(u, f):
+            """δ = Σ components: the identity once per component."""
             return np.tile(np.broadcast_to(np.eye(3), (u.shape[0], 3, 3)), (1, 1, len(bank)))
 
         return [SensorErrorStates(f"{ctx.triad}.{self.name}", ctx.triad, D, s * s * np.eye(k),
@@ -491,6 +535,7 @@ class ScaleFactor(Term):
             return []
 
         def diag_u(u, f):
+            """``diag(u)`` at each step."""
             M = np.zeros((u.shape[0], 3, 3))
             M[:, [0, 1, 2], [0, 1, 2]] = u
             return M
@@ -527,6 +572,7 @@ class Misalignment(Term):
             return []
 
         def cross_axis(u, f):
+            """The other axes' ``u`` in each off-diagonal column."""
             M = np.zeros((u.shape[0], 3, 6))
             for c, (i, j) in enumerate(OFF_DIAGONAL):
                 M[:, i, c] = u[:, j]
@@ -561,6 +607,7 @@ class GSensitivity(Term):
             return []
 
         def by_force(u, f):
+            """``f`` in the row block of each gyro axis."""
             M = np.zeros((u.shape[0], 3, 9))
             for i in range(3):
                 M[:, i, 3 * i: 3 * i + 3] = f
@@ -710,7 +757,16 @@ TERMS: dict[str, Term] = {}
 
 
 def register(term: Term) -> Term:
-    """Add ``term`` to :data:`TERMS` (after the others) and return it.
+    """Add ``term`` to :data:`TERMS` (after the others).
+
+    Parameters
+    ----------
+    term : Term
+
+    Returns
+    -------
+    Term
+        ``term`` itself.
 
     Raises
     ------

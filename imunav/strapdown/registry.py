@@ -371,6 +371,7 @@ def navigate_chunks(kind: str, rate: float, chunks: Iterable[tuple[FloatArray, F
     fed = 0
 
     def out(parts):
+        """The completed nodes as States, each with its time."""
         for q, v, p in parts:
             t = np.array([times.popleft() for _ in range(len(q))])
             yield States(t, p, v, q, algo.name)
