@@ -32,10 +32,10 @@ from imunav import (
 )
 from imunav.analysis.assessment import min_sample_rate, verdict_covariance
 from imunav.analysis.covariance import CovarianceResult
-from imunav.sensors.allan_report import imu_toml
 from imunav.papers.marusenkova2020 import motion_for
 from imunav.plotting import plot_allan, plot_envelope, plot_verdict
 from imunav.sensors import PRESETS, ImuModel, TriadModel, allan_deviation, apply_triad, fit_allan
+from imunav.sensors.allan_report import imu_toml
 
 SEED = 2026
 
