@@ -168,3 +168,25 @@ def test_module_entry_point_no_traceback(tmp_path):
 def test_example_motion_runs(tmp_path):
     assert main(["simulate", str(EXAMPLE), "--rate", "20", "--out", str(tmp_path / "s.csv"),
                  "--output", "increments"]) == 0
+
+
+def test_library_errors_name_library_arguments_and_the_cli_maps_them_to_flags(capsys):
+    """The library speaks of its own arguments (``imu``, ``smoothing``); only the command line
+    speaks of flags (issue 24)."""
+    from imunav import ImunavError
+    from imunav.io.files import load_motion
+    from imunav.sensors.models import ImuModel
+
+    with pytest.raises(ImunavError) as e:
+        ImuModel.load("nope")
+    assert str(e.value).startswith("imu 'nope' is neither a preset") and "--" not in str(e.value)
+    with pytest.raises(ImunavError) as e:
+        load_motion("examples/figure_eight.toml", smoothing=0.1)
+    assert str(e.value) == "smoothing and attitude_smoothing apply to pose CSV files only"
+    assert main(["assess", "examples/figure_eight.toml", "--imu", "nope", "--rate", "10",
+                 "--tolerance", "1"]) == 2
+    assert capsys.readouterr().err.startswith("imunav: error: --imu 'nope' is neither a preset")
+    assert main(["assess", "examples/figure_eight.toml", "--imu", "ideal", "--rate", "10",
+                 "--tolerance", "1", "--smoothing", "0.1"]) == 2
+    assert capsys.readouterr().err == ("imunav: error: --smoothing and --attitude-smoothing "
+                                       "apply to pose CSV files only\n")
