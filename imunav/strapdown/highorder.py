@@ -33,6 +33,7 @@ import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
 from imunav.core.rotations import FloatArray, _cross, _exp, _mul, _rotate
+from imunav.core.threads import limit_blas
 from imunav.strapdown.scan import exp_product
 
 _G4 = np.array([0.5 - np.sqrt(3) / 6, 0.5 + np.sqrt(3) / 6])
@@ -197,6 +198,7 @@ def interval_quaternions(fit: LocalFit, order: int, nsub: int) -> FloatArray:
 _POLY_CHUNK = 1 << 15
 
 
+@limit_blas
 def navigate_poly(kind: str, gyro: FloatArray, accel: FloatArray, h: float, q0: FloatArray,
                   v0: FloatArray, p0: FloatArray, g: float, first: int = 0,
                   count: int | None = None, *, m: int, order: int
