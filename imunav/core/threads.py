@@ -23,7 +23,12 @@ core). Code outside imunav's kernels is never affected. A child process started 
 (a notebook kernel, a worker) gets the same choice from :func:`blas_env`.
 
 The setting is process-wide in the BLAS library: while any kernel is inside its limit, other
-threads' BLAS calls see it too, and the limit is lifted when the last kernel leaves.
+threads' BLAS calls see it too, and the limit is lifted when the last kernel leaves. OpenBLAS
+honours a change of its thread count only from the thread that made the last change (or once
+that thread has ended), so kernels overlapping on several threads can leave BLAS at the limit
+after they finish (a Dask worker's threads: one BLAS thread each is what they should have;
+Dask's nanny starts its workers with ``OPENBLAS_NUM_THREADS=1`` anyway). Kernels called from
+one thread, as in a script, a notebook or the command line, always restore it.
 
 May import: ``imunav.core.validation``.
 """
