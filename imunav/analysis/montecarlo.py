@@ -5,7 +5,9 @@ adds its own errors from its own random stream (``SeedSequence(seed).spawn(runs)
 runs of a chunk are navigated together, vectorised across runs, through the algorithm registry
 (:func:`imunav.strapdown.registry.navigate_batch`; the default algorithm for the signal kind
 unless one is named). Chunks are independent tasks: locally they run in turn with a progress
-bar; with ``scheduler=ADDRESS`` they are sent to a Dask cluster (``imunav[dask]``).
+bar; with ``scheduler=ADDRESS`` they are sent to a Dask cluster (``imunav[dask]``). Each chunk
+runs with one BLAS thread unless the caller chose otherwise (:mod:`imunav.core.threads`; on a
+Dask worker, its own ``IMUNAV_BLAS_THREADS`` or ``set_blas_threads``).
 
 May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``, ``imunav.strapdown``.
 """
