@@ -244,10 +244,9 @@ def main(argv=None):
         with contextlib.redirect_stdout(io.StringIO()):
             assert cli_main(["navigate", sig_csv, "--initial", init_csv, "--out", nav_csv]) == 0
 
-    # key → (label, samples, call); every round times each once, in this order
+    # key → (label, samples, call); every round times each once, in this order (the two
+    # sides of a ratio next to each other, so that they see the same background load)
     contenders = {
-        "simulate": ("imunav simulate_imu, increments (spinning cone)", N,
-                     lambda: simulate_imu(motion, rate, N / rate, output="increments")),
         "simulate_rates": ("imunav simulate_imu, rates (figure-eight laws)", N,
                            lambda: simulate_imu(fig8, rate, N / rate, output="rates")),
         "simulate_increments": ("imunav simulate_imu, exact increments (figure-eight laws)", N,
@@ -257,23 +256,25 @@ def main(argv=None):
                                                             output="increments")),
         "pyins_simulate": ("pyins generate_imu, increments (figure-eight, rotating Earth)", N,
                            lambda: pyins_sim.generate_imu(tt, lla, rph, sensor_type="increment")),
+        "compiled_default": ("numba loop, poly8_m6 (att+vel+pos)", N, c_poly),
         "imunav_default": ("imunav navigate, default poly8_m6 (att+vel+pos)", N,
                            lambda: navigate(sig, q0)),
+        "cli_navigate": ("imunav navigate CLI, 1e6-row CSV in → CSV out (in-process)", N, run_cli),
+        "simulate": ("imunav simulate_imu, increments (spinning cone)", N,
+                     lambda: simulate_imu(motion, rate, N / rate, output="increments")),
+        "monte_carlo": (f"imunav monte_carlo {R} runs × {n_mc} samples (MPU-6050)", R * n_mc,
+                        lambda: monte_carlo(mc_motion, mpu, rate, n_mc / rate, runs=R, seed=1,
+                                            progress=False)),
         "imunav_exp_nav": ("imunav navigate, exact_exponential (att+vel+pos)", N,
                            lambda: navigate(sig, q0, algorithm="exact_exponential")),
+        "compiled_exp_nav": ("numba loop, exact_exponential (att+vel+pos)", N, c_exp),
         "imunav_exp_att": ("imunav exact-exponential attitude (exp_product)", N,
                            lambda: exp_product(q0, dth)),
         "compiled_exp_att": ("numba loop, exact-exponential attitude", N, c_att),
-        "compiled_exp_nav": ("numba loop, exact_exponential (att+vel+pos)", N, c_exp),
-        "compiled_default": ("numba loop, poly8_m6 (att+vel+pos)", N, c_poly),
         "ahrs_1e5": (f"ahrs AngularRate (closed form), {na:,} samples", na,
                      lambda: AngularRate(gyr=gyr, q0=q0, frequency=rate).Q),
         "imunav_exp_att_ahrs": (f"imunav exp_product on ahrs' {na:,} rate samples", na,
                                 lambda: exp_product(q0, gyr[1:] * h)),
-        "cli_navigate": ("imunav navigate CLI, 1e6-row CSV in → CSV out (in-process)", N, run_cli),
-        "monte_carlo": (f"imunav monte_carlo {R} runs × {n_mc} samples (MPU-6050)", R * n_mc,
-                        lambda: monte_carlo(mc_motion, mpu, rate, n_mc / rate, runs=R, seed=1,
-                                            progress=False)),
         "assess_covariance": ("assess covariance: figure-eight, tactical, 100 Hz, budget, min rate",
                               1,
                               lambda: assess_covariance(fe, tactical, 100.0, tol)),
