@@ -21,6 +21,8 @@ Contenders:
 - imunav ``simulate_imu`` of 1e6 increments (Chebyshev blocks) against 1e6 rate samples of the
   same motion (the figure-eight laws): ``simulate_increments_over_rates``; the same increments
   while a second process keeps one core busy: ``simulate_increments_loaded_over_idle``;
+- the same increments with numpy's default BLAS threads (``imunav.blas_threads(None)``),
+  idle and with the busy core: timings only, what the one-thread default buys;
 - pyins ``generate_imu`` (``sensor_type="increment"``) on the same motion and sample times:
   ``pyins_simulate_over_imunav`` (see :func:`pyins_inputs` for the frames);
 - Monte Carlo of 1000 runs × 6000 samples (simulate + sensor errors + navigate) vs the single
@@ -164,6 +166,12 @@ class BusyCore:
         self.proc.wait()
 
 
+def numpy_threads(motion, rate, n):
+    """The exact increments with imunav's BLAS limit lifted (numpy's own thread count)."""
+    with imunav.blas_threads(None):
+        return simulate_imu(motion, rate, n / rate, output="increments")
+
+
 def states(n, q0):
     q, v, p = np.empty((n + 1, 4)), np.empty((n + 1, 3)), np.empty((n + 1, 3))
     q[0], v[0], p[0] = q0, 0.0, 0.0
@@ -254,6 +262,12 @@ def main(argv=None):
         "simulate_increments_loaded": ("  the same, with a second process busy on one core", N,
                                        lambda: simulate_imu(fig8, rate, N / rate,
                                                             output="increments")),
+        # what the BLAS limit buys: the same call with numpy's default threads (two here)
+        "simulate_increments_numpy_threads": ("  the same, numpy's default BLAS threads", N,
+                                              lambda: numpy_threads(fig8, rate, N)),
+        "simulate_increments_numpy_threads_loaded": ("  the same, numpy's default BLAS threads, "
+                                                     "busy core", N,
+                                                     lambda: numpy_threads(fig8, rate, N)),
         "pyins_simulate": ("pyins generate_imu, increments (figure-eight, rotating Earth)", N,
                            lambda: pyins_sim.generate_imu(tt, lla, rph, sensor_type="increment")),
         "compiled_default": ("numba loop, poly8_m6 (att+vel+pos)", N, c_poly),
@@ -292,7 +306,7 @@ def main(argv=None):
         for r in range(a.rounds):
             t_round = time.perf_counter()
             for key, (_, _, call) in contenders.items():
-                ctx = busy.running() if key == "simulate_increments_loaded" else contextlib.nullcontext()
+                ctx = busy.running() if key.endswith("_loaded") else contextlib.nullcontext()
                 with ctx:
                     t0 = time.perf_counter()
                     out = call()
@@ -423,6 +437,14 @@ def main(argv=None):
     line("assess: Monte Carlo / covariance", "montecarlo_over_covariance", "8.1f")
     print(f"  {'peak memory / output arrays (1e6 default nav)':<54s} "
           f"{ratios['peak_memory_over_outputs']:8.2f}×   ({peak / 1e6:.0f} MB / {out_bytes / 1e6:.0f} MB)")
+    effect = {
+        "idle": spread([t["simulate_increments_numpy_threads"] / t["simulate_increments"]
+                        for t in T])[0],
+        "busy_core": spread([t["simulate_increments_numpy_threads_loaded"]
+                             / t["simulate_increments_loaded"] for t in T])[0],
+    }
+    print(f"  {'exact increments, numpy default BLAS threads / one':<54s} "
+          f"{effect['idle']:8.2f}× idle, {effect['busy_core']:.2f}× with the busy core")
     print("\nagreement")
     for k, v in checks.items():
         print(f"  {k:<40s} {v:.2e}")
@@ -456,6 +478,7 @@ def main(argv=None):
               "load_average": {"start": list(load_start), "end": list(load_end)},
               "wall_seconds": wall,
               "timings": rows, "ratios": ratios, "ratios_min_max": ranges,
+              "blas_limit_effect": effect,
               "notes": {"pyins": "generate_imu(sensor_type='increment') on the figure-eight "
                                  "track at 45° N on pyins' rotating Earth (timing); agreement "
                                  "with Earth rate 0 at a fixed point (no transport rate), 1 s "
