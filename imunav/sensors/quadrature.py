@@ -106,7 +106,7 @@ def _blocks(f, t0, h, first, r, groups, out, k0):
     for n in DEGREES:
         x, W, C = _rule(n, r)
         if vals is None:
-            new = np.ascontiguousarray(f(mid[todo][None, :] + (L / 2) * x[:, None]))
+            new = np.ascontiguousarray(f(mid[todo][None, :] + (L / 2) * x[:, None]), dtype=float)
         else:                                               # x_{2j} of degree n are the old points
             new = np.empty((n + 1, todo.size, width))
             new[0::2] = vals
