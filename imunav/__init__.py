@@ -65,6 +65,7 @@ from imunav.core.rotations import (
     to_scipy,
 )
 from imunav.core.states import States
+from imunav.core.threads import blas_threads, set_blas_threads
 from imunav.core.validation import ImunavError
 from imunav.earth import normal_gravity
 from imunav.io.realdata import read_generic, read_ximu, read_ximu3
@@ -93,6 +94,7 @@ __all__ = [
     "States",
     "assess",
     "assess_covariance",
+    "blas_threads",
     "covariance",
     "design",
     "euler_to_quat",
@@ -118,6 +120,7 @@ __all__ = [
     "read_ximu3",
     "round_trip",
     "run_family",
+    "set_blas_threads",
     "simulate_imu",
     "to_scipy",
     "WaypointMotion",
