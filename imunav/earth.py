@@ -604,3 +604,62 @@ def ned_difference(lla: npt.ArrayLike, lla_ref: npt.ArrayLike) -> FloatArray:
 
 __all__ += ["ned_difference"]
 
+
+def gravitation_gradient(r: npt.ArrayLike, step: float = 20.0) -> FloatArray:
+    """The gradient ``∂G/∂r`` (s⁻²) of the gravitation of :func:`gravitation_ecef` at ``r``, by
+    central differences of the exact field: the feedback of a position error through gravity
+    (vertical ≈ +2g/R, horizontal ≈ −g/R: the Schuler loop).
+
+    With steps of ``step`` metres the truncation is ~(step/R)² ≈ 1e-11 of the gradient and the
+    rounding ~1e-15 g/step ≈ 1e-16 s⁻².
+
+    Parameters
+    ----------
+    r : array_like, shape (..., 3)
+        Positions (m), ECEF or inertial.
+    step : float
+        Difference step (m).
+
+    Returns
+    -------
+    ndarray, shape (..., 3, 3)
+        ``[i, j] = ∂G_i/∂r_j``.
+    """
+    r = as_float_array(r, "r", last=3)
+    pts = np.empty(r.shape[:-1] + (6, 3))
+    pts[...] = r[..., None, :]
+    for j in range(3):
+        pts[..., 2 * j, j] += step
+        pts[..., 2 * j + 1, j] -= step
+    sl, _, h, c = geodetic_kernel(pts)
+    G = gravitation_kernel(pts, sl, h, c)
+    return np.stack([(G[..., 2 * j, :] - G[..., 2 * j + 1, :]) / (2.0 * step) for j in range(3)],
+                    axis=-1)
+
+
+def curvature_matrix(lat: npt.ArrayLike, h: npt.ArrayLike) -> FloatArray:
+    """``K`` with ``δθ = K δp``: the small rotation (rad, in NED) of the local NED frame when the
+    point moves by ``δp`` (m, NED) — the transport rate is ``K v``.
+
+    Parameters
+    ----------
+    lat, h : array_like
+        Latitude (rad) and height (m).
+
+    Returns
+    -------
+    ndarray, shape (..., 3, 3)
+        ``[[0, 1/(R_E+h), 0], [−1/(R_N+h), 0, 0], [0, −tan L/(R_E+h), 0]]``.
+    """
+    lat = _angle(lat, "lat")
+    h = as_float_array(h, "h")
+    rn, re = radii(lat)
+    K = np.zeros(np.broadcast_shapes(lat.shape, h.shape) + (3, 3))
+    K[..., 0, 1] = 1.0 / (re + h)
+    K[..., 1, 0] = -1.0 / (rn + h)
+    K[..., 2, 1] = -np.tan(lat) / (re + h)
+    return K
+
+
+__all__ += ["curvature_matrix", "gravitation_gradient"]
+

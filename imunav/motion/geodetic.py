@@ -132,6 +132,21 @@ class EarthMotion(BaseMotion):
         return (self._r0 + self.local.position(t) @ C.T, self.local.velocity(t) @ C.T,
                 self.local.acceleration(t) @ C.T)
 
+    def ecef_attitude(self, t: npt.ArrayLike) -> FloatArray:
+        """``q_eb = q_en₀ ⊗ q_n₀b``: the body attitude relative to ECEF.
+
+        Parameters
+        ----------
+        t : array_like
+            Times (s).
+
+        Returns
+        -------
+        ndarray, shape t.shape + (4,)
+        """
+        return quat_mul(np.broadcast_to(self._q0, np.shape(times(t)) + (4,)),
+                        self.local.attitude(t))
+
     def geodetic(self, t: npt.ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
         """Latitude, longitude (rad) and height (m) at times ``t``.
 

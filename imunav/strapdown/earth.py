@@ -58,6 +58,7 @@ from imunav.earth import (
     geodetic_kernel,
     geodetic_to_ecef,
     gravitation_ecef,
+    gravitation_gradient,
     gravitation_kernel,
     quat_ned_to_ecef,
 )
@@ -284,7 +285,7 @@ class EarthIntegrator:
         wwl = np.empty_like(last)
         wwl[..., 0], wwl[..., 1], wwl[..., 2] = -OMEGA_E * wl[..., 1], OMEGA_E * wl[..., 0], 0.0
         r = rb + tt * vb + dp + (tt * tt) * (0.5 * last + tt * (wl / 6.0 + tt * (wwl / 24.0)))
-        Gb = self._gradient(rb)
+        Gb = gravitation_gradient(rb, GRADIENT_STEP)
         d = _rot_z(r, c, -s) - rb
         pred = _rot_z(last + np.einsum("...ij,...j->...i", Gb, d), c, s)
         # the gradient changes by ~3|d|/R over the block: the linearisation's relative error
@@ -335,22 +336,6 @@ class EarthIntegrator:
             raise ImunavError(f"navigation on the Earth left the Earth's surroundings by t = "
                               f"{self.t0 + self.k * h:.9g} s (within 43 km of its centre)")
         return self._local(q_ib, v, r, r1, geo, OMEGA_E * ((self.k - n) * h + tau))
-
-    def _gradient(self, r: FloatArray) -> FloatArray:
-        """The gradient ``∂G/∂r`` (…, 3, 3) of the gravitation at ``r`` by central differences
-        of the exact field (steps of :data:`GRADIENT_STEP`: truncation ~(δ/R)² ≈ 1e-10 of it,
-        rounding ~1e-15 g/δ ≈ 1e-16 s⁻²) — the linearisation of the iteration."""
-        r = np.asarray(r, dtype=float)
-        d = GRADIENT_STEP
-        pts = np.empty(r.shape[:-1] + (6, 3))
-        pts[...] = r[..., None, :]
-        for j in range(3):
-            pts[..., 2 * j, j] += d
-            pts[..., 2 * j + 1, j] -= d
-        sl, _, h, c = geodetic_kernel(pts)
-        G = gravitation_kernel(pts, sl, h, c)
-        return np.stack([(G[..., 2 * j, :] - G[..., 2 * j + 1, :]) / (2 * d) for j in range(3)],
-                        axis=-1)
 
     # ------------------------------------------------------------------------------ output
     def _local(self, q_ib, v_i, r_i, r1, geo, ang):
