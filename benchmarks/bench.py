@@ -29,7 +29,13 @@ Contenders:
   long run's throughput (simulate + navigate of 1e6 samples);
 - ``imunav navigate`` end to end on a 1e6-row increments CSV (read, navigate, write), run
   in-process, over the navigation's own compute time (``cli_navigate_over_compute``);
-- assessment: covariance analysis vs the 1000-run Monte Carlo (``montecarlo_over_covariance``).
+- assessment: covariance analysis vs the 1000-run Monte Carlo (``montecarlo_over_covariance``);
+- the rotating Earth (:func:`earth_bench`): 1e6 increments of a vehicle driving and weaving at
+  45° N navigated on the WGS-84 Earth over the same local motion navigated in the flat frame
+  (``earth_navigation_over_flat``, default algorithm; coning2 too), and pyins' numba
+  ``Integrator`` (``compute_increments_from_imu`` + ``Integrator.integrate``, as a pyins user
+  runs it) on the same increments over imunav's default on the Earth
+  (``pyins_navigate_over_imunav``; pyins' numba kernel alone is timed as well).
 
 Peak memory (tracemalloc, numpy allocations) of the 1e6-sample default navigation over the size
 of its output arrays is measured once. Numerical agreement of each compared pair is checked and
@@ -170,6 +176,111 @@ def numpy_threads(motion, rate, n):
     """The exact increments with imunav's BLAS limit lifted (numpy's own thread count)."""
     with imunav.blas_threads(None):
         return simulate_imu(motion, rate, n / rate, output="increments")
+
+
+#: The Earth bench's vehicle: 15 m/s east, weaving ±100 m north, turning, climbing and dipping
+#: 2 m — near the surface for the 1e4 s of 1e6 samples at 100 Hz (the figure-eight climbs 5000 km).
+EARTH_LAWS = dict(x="100*sin(0.05*t)", y="15*t", z="-2*sin(0.02*t)", yaw="0.5*sin(0.05*t)",
+                  pitch="0.05*sin(0.1*t)", roll="0.1*sin(0.2*t)")
+EARTH_ORIGIN_DEG = (45.0, 7.0, 100.0)
+
+
+def earth_bench(n, rate, rounds):
+    """Navigation on the rotating Earth against the flat frame and against pyins, interleaved
+    rounds as :func:`main`. Returns ``(times, labels, outs)``: per key the round times, the
+    labels and samples, and the last round's outputs for the agreement checks."""
+    import pandas as pd
+    from pyins import strapdown as ps
+    from pyins._numba_integrate import integrate as pyins_kernel
+
+    from imunav.core.rotations import quat_to_euler
+    from imunav.motion import EarthMotion, Motion
+
+    local = Motion(**EARTH_LAWS, duration=n / rate)
+    origin = tuple(np.radians(EARTH_ORIGIN_DEG[:2])) + (EARTH_ORIGIN_DEG[2],)
+    on_earth = EarthMotion(local, origin)
+    flat_sig = simulate_imu(local, rate, n / rate, output="increments")
+    sig = simulate_imu(on_earth, rate, n / rate, output="increments")
+    x_flat = local.states([0.0]).initial()
+    x_earth = on_earth.states([0.0]).initial()
+    # pyins: its increments DataFrame (the first sample duplicated, as generate_imu gives it),
+    # its initial PVA in degrees
+    t = sig.state_times()
+    imu = pd.DataFrame(np.hstack([np.vstack([sig.gyro[:1], sig.gyro]),
+                                  np.vstack([sig.accel[:1], sig.accel])]), index=t,
+                       columns=["gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y", "accel_z"])
+    q0, v0, p0 = x_earth
+    ypr = np.degrees(quat_to_euler(q0[None]))[0]
+    pva = pd.Series({"lat": np.degrees(p0[0]), "lon": np.degrees(p0[1]), "alt": p0[2],
+                     "VN": v0[0], "VE": v0[1], "VD": v0[2], "roll": ypr[2], "pitch": ypr[1],
+                     "heading": ypr[0]})
+
+    def pyins_run():
+        return ps.Integrator(pva).integrate(ps.compute_increments_from_imu(imu, "increment"))
+
+    inc = ps.compute_increments_from_imu(imu, "increment")
+    theta = np.ascontiguousarray(inc[["theta_x", "theta_y", "theta_z"]])
+    dvv = np.ascontiguousarray(inc[["dv_x", "dv_y", "dv_z"]])
+    dts = np.asarray(inc.dt)
+
+    def pyins_kernel_run():
+        lla = np.empty((n + 1, 3))
+        vel = np.empty((n + 1, 3))
+        mat = np.empty((n + 1, 3, 3))
+        lla[0] = pva[["lat", "lon", "alt"]]
+        vel[0] = pva[["VN", "VE", "VD"]]
+        from pyins import transform
+
+        mat[0] = transform.mat_from_rph(pva[["roll", "pitch", "heading"]])
+        pyins_kernel(dts, lla, vel, mat, theta, dvv, 0, True)
+        return lla
+
+    pyins_run()                                               # numba compiles once, untimed
+    contenders = {
+        "flat_default": ("imunav navigate, flat frame, default poly8_m6 (vehicle)", n,
+                         lambda: navigate(flat_sig, *x_flat)),
+        "earth_default": ("imunav navigate, WGS-84 Earth, default poly8_m6 (vehicle)", n,
+                          lambda: navigate(sig, *x_earth, earth="wgs84")),
+        "flat_coning2": ("imunav navigate, flat frame, coning2", n,
+                         lambda: navigate(flat_sig, *x_flat, algorithm="coning2")),
+        "earth_coning2": ("imunav navigate, WGS-84 Earth, coning2", n,
+                          lambda: navigate(sig, *x_earth, algorithm="coning2", earth="wgs84")),
+        "pyins_navigate": ("pyins compute_increments_from_imu + Integrator.integrate", n,
+                           pyins_run),
+        "pyins_kernel": ("  pyins' numba integration loop alone", n, pyins_kernel_run),
+    }
+    keep = {"earth_default", "earth_coning2", "pyins_navigate"}
+    times = {k: [] for k in contenders}
+    outs = {}
+    for r in range(rounds):
+        t_round = time.perf_counter()
+        for key, (_, _, call) in contenders.items():
+            t0 = time.perf_counter()
+            out = call()
+            times[key].append(time.perf_counter() - t0)
+            outs[key] = out if key in keep else None
+            del out
+        print(f"  earth round {r + 1}/{rounds}: {time.perf_counter() - t_round:.0f} s, "
+              f"load average {os.getloadavg()[0]:.2f}", flush=True)
+    outs["truth"] = on_earth.states(t)
+    return times, {k: (v[0], v[1]) for k, v in contenders.items()}, outs
+
+
+def earth_checks(outs):
+    """The Earth bench's agreement: imunav's default and coning2 and pyins against the exact
+    truth on the same increments (metres at the end and at the worst time)."""
+    from imunav import earth as E
+
+    truth = outs["truth"].position
+    out = {}
+    for key in ("earth_default", "earth_coning2"):
+        d = np.linalg.norm(E.ned_difference(outs[key].position, truth), axis=1)
+        out[f"{key}_max_position_error_m"] = float(d.max())
+    tr = outs["pyins_navigate"]
+    lla = np.column_stack([np.radians(tr[["lat", "lon"]].to_numpy()), tr["alt"].to_numpy()])
+    d = np.linalg.norm(E.ned_difference(lla, truth), axis=1)
+    out["pyins_max_position_error_m"] = float(d.max())
+    return out
 
 
 def states(n, q0):
@@ -316,6 +427,9 @@ def main(argv=None):
             print(f"  round {r + 1}/{a.rounds}: {time.perf_counter() - t_round:.0f} s, "
                   f"load average {os.getloadavg()[0]:.2f}", flush=True)
     tmp.cleanup()
+    e_times, e_labels, e_outs = earth_bench(N, rate, a.rounds)
+    times.update(e_times)
+    contenders.update({k: (label, samples, None) for k, (label, samples) in e_labels.items()})
 
     rows = {}
     print(f"\n  {'contender':<66s} {'median':>9s}  {'min – max (ms)':>19s} {'ns/sample':>10s}")
@@ -350,6 +464,7 @@ def main(argv=None):
     d_pyins = np.abs(pyins_gyro_flat(tt, rph) - sig8.gyro)
     ends = int(rate)
     checks["pyins_gyro_increments_max_abs_diff"] = float(d_pyins[ends:-ends].max())
+    earth_errors = earth_checks(e_outs)
     v_cov, v_mc = outs["assess_covariance"], outs["assess_montecarlo"]
     checks["assess_final_p95_cov_over_mc_minus_1"] = abs(
         v_cov["final_p95_position_m"] / v_mc["final_p95_position_m"] - 1)
@@ -387,6 +502,11 @@ def main(argv=None):
         "simulate_increments_loaded_over_idle":
             lambda t: t["simulate_increments_loaded"] / t["simulate_increments"],
         "montecarlo_over_covariance": lambda t: t["assess_montecarlo"] / t["assess_covariance"],
+        "earth_navigation_over_flat": lambda t: t["earth_default"] / t["flat_default"],
+        "earth_navigation_over_flat_coning2": lambda t: t["earth_coning2"] / t["flat_coning2"],
+        "pyins_navigate_over_imunav": lambda t: t["pyins_navigate"] / t["earth_default"],
+        "pyins_kernel_over_imunav": lambda t: t["pyins_kernel"] / t["earth_default"],
+        "pyins_navigate_over_imunav_coning2": lambda t: t["pyins_navigate"] / t["earth_coning2"],
     }
 
     def evaluate(spec):
@@ -415,6 +535,8 @@ def main(argv=None):
             ratios["simulate_increments_loaded_over_idle"] <= 1.3,
         "single run ≥ 3× 3.4e4 samples/s": ratios["single_run_samples_per_second"] >= 3 * 3.4e4,
         "covariance assessment < 1 s": rows["assess_covariance"]["seconds"] < 1.0,
+        "Earth navigation ≤ 1.5× flat (default, 1e6)": ratios["earth_navigation_over_flat"] <= 1.5,
+        "pyins Integrator / imunav on the Earth ≥ 1": ratios["pyins_navigate_over_imunav"] >= 1,
     }
 
     def line(name, key, fmt="8.2f", unit="×", sub=None):
@@ -435,6 +557,11 @@ def main(argv=None):
     line("exact increments, busy core / idle", "simulate_increments_loaded_over_idle")
     line("imunav navigate CLI / navigation compute (1e6 rows)", "cli_navigate_over_compute")
     line("assess: Monte Carlo / covariance", "montecarlo_over_covariance", "8.1f")
+    line("Earth navigation / flat (default poly8_m6, 1e6)", "earth_navigation_over_flat")
+    line("Earth navigation / flat (coning2)", "earth_navigation_over_flat_coning2")
+    line("pyins Integrator / imunav Earth (default)", "pyins_navigate_over_imunav")
+    line("  pyins' numba loop alone / imunav Earth (default)", "pyins_kernel_over_imunav")
+    line("pyins Integrator / imunav Earth (coning2)", "pyins_navigate_over_imunav_coning2")
     print(f"  {'peak memory / output arrays (1e6 default nav)':<54s} "
           f"{ratios['peak_memory_over_outputs']:8.2f}×   ({peak / 1e6:.0f} MB / {out_bytes / 1e6:.0f} MB)")
     effect = {
@@ -448,6 +575,9 @@ def main(argv=None):
     print("\nagreement")
     for k, v in checks.items():
         print(f"  {k:<40s} {v:.2e}")
+    print("  on the Earth, against the exact truth (free vertical channel, 1e4 s):")
+    for k, v in earth_errors.items():
+        print(f"    {k:<38s} {v:.3g}")
     print("\ntargets (judged on the medians)")
     for k, ok in targets.items():
         print(f"  {'met ' if ok else 'MISSED'}  {k}")
@@ -485,7 +615,8 @@ def main(argv=None):
                                  "left out at each spline end",
                         "ratios": "median over the rounds of the ratio within each round; "
                                   "min and max under ratios_min_max"},
-              "agreement": checks, "agreement_bounds": bounds, "targets_met": targets}
+              "agreement": checks, "agreement_bounds": bounds, "targets_met": targets,
+              "earth_errors": earth_errors}
     Path(a.out).write_text(json.dumps(result, indent=2, ensure_ascii=False) + "\n")
     print(f"wrote {a.out}")
     if bad:

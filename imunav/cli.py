@@ -318,13 +318,11 @@ def cmd_assess(args) -> int:
     if motion.frame == "wgs84" and method == "covariance":
         raise ImunavError("the covariance analysis on the WGS-84 Earth is not wired yet: use "
                           "--method montecarlo --runs N")
-    if args.vertical == "hold":
-        raise ImunavError("--vertical hold is not wired yet: use --vertical free")
     if method == "covariance":
         r = assess_covariance(motion, model, args.rate, args.tolerance, duration=duration)
     else:
         r = assess(motion, model, args.rate, args.runs, args.tolerance, seed=args.seed or 0,
-                   duration=duration, scheduler=args.scheduler)
+                   duration=duration, scheduler=args.scheduler, vertical=args.vertical)
     print(format_verdict(r))
     if args.json:
         write_json(r, out["--json"])

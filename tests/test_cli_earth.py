@@ -108,3 +108,30 @@ def test_assess_montecarlo_on_the_earth(tmp_path, motion_file, capsys):
                  str(out)]) == 0
     text = capsys.readouterr().out
     assert "20 runs" in text and out.exists()
+
+
+def test_assess_with_the_vertical_held_and_the_dominance_note(tmp_path, capsys):
+    """Free, an accelerometer bias's error is mostly vertical and the verdict says so; held (a
+    perfect height aid) only the horizontal part remains."""
+    motion = tmp_path / "still.toml"
+    motion.write_text("duration = 1800.0\n")
+    imu = tmp_path / "imu.toml"
+    imu.write_text('[gyro]\n[accel]\nbias = "1 mg"\n')
+    args = ["assess", str(motion), "--imu", str(imu), "--rate", "1", "--tolerance", "5",
+            "--runs", "30", "--earth", "wgs84", "--origin", "45,7,100"]
+    out = tmp_path / "a.json"
+    assert main(args + ["--json", str(out)]) == 0
+    free = capsys.readouterr().out
+    assert "the vertical channel dominates" in free
+    import json
+
+    r = json.loads(out.read_text())
+    assert r["vertical"] == "free" and r["final_p95_position_m"] > 2 * r["final_p95_horizontal_m"]
+    assert main(args + ["--vertical", "hold", "--json", str(out)]) == 0
+    held = capsys.readouterr().out
+    assert "dominates" not in held
+    r2 = json.loads(out.read_text())
+    assert r2["final_p95_position_m"] == pytest.approx(r2["final_p95_horizontal_m"], rel=1e-3)
+    assert main(["assess", str(motion), "--imu", str(imu), "--rate", "1", "--tolerance", "5",
+                 "--runs", "3", "--vertical", "hold"]) == 2
+    assert "--vertical applies to --earth wgs84 only" in capsys.readouterr().err

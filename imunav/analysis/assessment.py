@@ -170,22 +170,58 @@ def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, toleranc
 def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int, tolerance: float,
            seed: int = 0, duration: float | None = None, output: str = "increments",
            budget_runs: int | None = None, scheduler: str | None = None,
-           progress: bool = True) -> dict:
+           progress: bool = True, vertical: str = "free") -> dict:
     """The applicability verdict: the numbers of ``imunav assess`` (see :func:`verdict` and
     :func:`format_verdict`).
 
     ``error_budget``: each error term alone (same seed, ``budget_runs`` runs, default
-    min(runs, 200)) → final 95th-percentile position error (m).
+    min(runs, 200)) → final 95th-percentile position error (m). On the WGS-84 Earth
+    ``vertical="hold"`` holds the vertical channel at the true height (a perfect height aid);
+    free, a verdict dominated by the unstable vertical channel says so.
     """
     tolerance = check_positive(tolerance, "tolerance")
     mc = monte_carlo(motion, model, rate, duration, runs, seed, output, scheduler=scheduler,
-                     progress=progress)
+                     progress=progress, vertical=vertical)
     br = budget_runs or min(runs, 200)
     budget = {term: monte_carlo(motion, model.only(term), rate, duration, br, seed, output,
-                                scheduler=scheduler, progress=False)
+                                scheduler=scheduler, progress=False, vertical=vertical)
               for term in model.terms()}
-    return verdict(mc, tolerance, budget, min_sample_rate(motion, tolerance, duration, output),
-                   motion=motion.name, imu=model.name, seed=seed)
+    r = verdict(mc, tolerance, budget, min_sample_rate(motion, tolerance, duration, output),
+                motion=motion.name, imu=model.name, seed=seed)
+    if mc.horizontal is not None:
+        r["vertical"] = vertical
+        hor = float(np.percentile(mc.horizontal[:, -1], PERCENTILE))
+        r["final_p95_horizontal_m"] = hor
+        note = vertical_note(r["final_p95_position_m"], hor, vertical)
+        if note:
+            r["warnings"].append(note)
+    return r
+
+
+#: Above this ratio of the whole error to its horizontal part the vertical channel dominates.
+VERTICAL_DOMINANCE = 2.0
+
+
+def vertical_note(total: float, horizontal: float, vertical: str) -> str | None:
+    """The warning of a verdict on the Earth whose error is mostly vertical: the free vertical
+    channel is unstable (the error e-folds in about 10 minutes); a height aid removes it.
+
+    Parameters
+    ----------
+    total, horizontal : float
+        Final 95th percentiles of the whole and the horizontal position error (m).
+    vertical : {"free", "hold"}
+
+    Returns
+    -------
+    str or None
+    """
+    if vertical != "free" or total <= VERTICAL_DOMINANCE * horizontal:
+        return None
+    return (f"the vertical channel dominates: {total:.3g} m in all, {horizontal:.3g} m "
+            "horizontally (free, the vertical error of an inertial navigator grows "
+            "exponentially, e-folding in about 10 minutes); with a perfect height aid "
+            "(--vertical hold) only the horizontal part remains")
 
 
 def format_verdict(r: dict) -> str:

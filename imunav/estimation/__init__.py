@@ -15,6 +15,7 @@ from imunav.estimation.error_model import (
     DP,
     DV,
     EARTH,
+    EARTH_HOLD,
     FLAT,
     NAV,
     PHI,
@@ -28,7 +29,7 @@ from imunav.estimation.error_model import (
 from imunav.estimation.kalman import Update, predict, update
 from imunav.estimation.propagation import propagate, propagate_chunks
 
-__all__ = ["DP", "DV", "EARTH", "FLAT", "NAV", "PHI", "EarthErrorModel", "ErrorSource",
+__all__ = ["DP", "DV", "EARTH", "EARTH_HOLD", "FLAT", "NAV", "PHI", "EarthErrorModel", "ErrorSource",
            "FlatErrorModel", "Trajectory", "error_model",
            "Update", "flat_transition", "linearise", "phi_functions", "predict",
            "process_noise", "propagate", "propagate_chunks", "update", "van_loan"]
