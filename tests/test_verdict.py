@@ -201,7 +201,9 @@ def test_assess_passes_every_setting_through(monkeypatch):
 
     calls, rates = [], []
 
-    def recording_mc(motion, model, rate, duration, runs, seed, output, *, scheduler, progress):
+    def recording_mc(motion, model, rate, duration, runs, seed, output, *, scheduler, progress,
+                     vertical):
+        assert vertical == "free"                         # the flat frame's (no height aid)
         calls.append((model.name, duration, runs, seed, output, scheduler, progress))
         return monte_carlo(motion, model, rate, duration, runs, seed, output, progress=False)
 
