@@ -482,13 +482,25 @@ class EarthErrorModel(FlatErrorModel):
     columns, in closed form with ``A³ = 0`` and the φ-functions of the decay rates: Γh² ≈ 3e-10
     at 100 Hz, so what is left (Γ² h⁴) is ~1e-19 of a step; :meth:`discretise_generic` (Van
     Loan, the whole matrix) is its independent check.
+
+    Parameters
+    ----------
+    vertical : {"free", "hold"}
+        The vertical channel free, or held at the true height and vertical velocity (a perfect
+        height aid: see :meth:`hold_projection`).
+
+    Raises
+    ------
+    ImunavError
+        For another ``vertical``.
     """
 
     name = "wgs84"
 
     def __init__(self, vertical: str = "free"):
         if vertical not in ("free", "hold"):
-            raise ValueError(f"vertical must be 'free' or 'hold', got {vertical!r}")
+            raise ImunavError(f"vertical must be 'free' or 'hold', got {vertical!r}",
+                              argument="vertical")
         #: ``"free"``, or ``"hold"``: the vertical channel held at the true height and vertical
         #: velocity (a perfect height aid): after every step the error state is projected by
         #: ``T = H⁻¹ Z H`` (``Z`` zeroes δv_D and δp_D in local NED), as the navigation's
