@@ -95,3 +95,24 @@ def test_bias_calibration_judged_out_of_sample():
         assert h["out_of_sample"]["final"] < 0.3 * h["raw"]["final"]
     with pytest.raises(R.ImunavError, match="split"):
         R.holdout_bias(s, a, b, b)
+
+
+def test_static_segments_end_with_the_last_quiet_sample():
+    """A hand-built record at 100 Hz: at rest for samples 0–49, turning ever faster (0.5 to
+    2 rad/s) and accelerating (|f| = 1.2 g) for 50–79, at rest again for 80–149. With 0.1 s
+    windows (10 samples) the quiet stretches are exactly [0, 50) and [80, 150): the first
+    turning sample (50) must not be in a "static" segment, and the last segment must not run
+    past the record."""
+
+    from imunav.sensors.signals import ImuSignals
+
+    n, rate, g = 150, 100.0, 9.80665
+    gyro = np.zeros((n, 3))
+    gyro[50:80, 2] = np.linspace(0.5, 2.0, 30)
+    accel = np.tile([0.0, 0.0, -g], (n, 1))
+    accel[50:80, 2] *= 1.2
+    sig = ImuSignals(np.arange(n) / rate, gyro, accel, "rates", rate, g)
+    segs = R.static_segments(sig, window=0.1)
+    assert segs == [(0, 50), (80, 150)]
+    for a, b in segs:
+        assert np.all(sig.gyro[a:b] == 0.0)

@@ -237,7 +237,11 @@ def static_segments(sig: ImuSignals, window: float = 0.5, gyro_tol: float = np.r
                     accel_tol: float = 0.03) -> list[tuple[int, int]]:
     """Index ranges where, over sliding ``window`` s, each gyro axis spreads by less than
     ``gyro_tol`` (max − min: a biased gyro at rest still counts) and |f| stays within
-    ``accel_tol`` (relative) of g: candidate stationary periods for bias estimation."""
+    ``accel_tol`` (relative) of g: candidate stationary periods for bias estimation.
+
+    Each range ``(i0, i1)`` is half-open: it starts at the first quiet window and ends with the
+    last sample of the last quiet window (a window of ``n`` samples starting at ``j − 1`` ends
+    at ``j + n − 2``, so ``i1 = j + n − 1``), so no sample after the motion resumes is in it."""
     from numpy.lib.stride_tricks import sliding_window_view
 
     n = max(2, int(window * sig.rate))
@@ -252,7 +256,7 @@ def static_segments(sig: ImuSignals, window: float = 0.5, gyro_tol: float = np.r
             j = i
             while j < len(ok) and ok[j]:
                 j += 1
-            segs.append((i, j + n))
+            segs.append((i, j - 1 + n))      # the last quiet window starts at j − 1
             i = j
         else:
             i += 1
