@@ -27,7 +27,7 @@ def _quickstart(out: Path) -> list[dict]:
     recs = []
     res = round_trip(rate=100.0, output="increments")
     fig = plotting.plot_run(res)
-    fig.savefig(out / "quickstart_round_trip.png", dpi=110)
+    fig.savefig(out / "quickstart_round_trip.png", dpi=150)
     plt.close(fig)
     s = res.errors.summary()
     recs.append(record("quickstart.increments_100hz.max_position_error", "max position error, "
@@ -42,7 +42,7 @@ def _quickstart(out: Path) -> list[dict]:
                        "quickstart motion, 20 s"))
     rows = error_table()
     fig = plotting.plot_error_vs_rate(rows)
-    fig.savefig(out / "quickstart_error_vs_rate.png", dpi=110)
+    fig.savefig(out / "quickstart_error_vs_rate.png", dpi=150)
     plt.close(fig)
     for row in rows:
         if row["order_att"] is None:  # at rounding level at 50–400 Hz on this motion
@@ -82,7 +82,8 @@ def reproduce_all(out: str | Path = "figures", only: list[str] | None = None) ->
 
 
 def format_table(records: list[dict]) -> str:
-    """Plain-text table: id, paper, imunav, unit, verdict."""
+    """Plain-text table: id, paper, imunav, unit, verdict (the verdict rule:
+    :mod:`imunav.papers.records`)."""
     def f(x):
         return "null" if x is None else f"{x:.4g}"
 
