@@ -401,7 +401,7 @@ def _texts(fig, ax=None):
     if ax is None:
         if fig._suptitle is not None:
             items.append(("suptitle", fig._suptitle))
-        items += [("figure text", t) for t in fig.texts]
+        items += [("figure text", t) for t in fig.texts if t is not fig._suptitle]
         for leg in fig.legends:
             items += [("legend", t) for t in leg.get_texts()] + [("legend title", leg.get_title())]
         return items
@@ -414,6 +414,10 @@ def _texts(fig, ax=None):
     if leg is not None:
         items += [("legend", t) for t in leg.get_texts()] + [("legend title", leg.get_title())]
     return [(w, t) for w, t in items if t.get_visible() and t.get_text().strip()]
+
+
+def _words(i: str) -> str:
+    return f"write {name(i)!r}" if name(i) != i else "write it in words: imunav.core.style.name"
 
 
 def check_figure(fig) -> list[str]:
@@ -436,8 +440,7 @@ def check_figure(fig) -> list[str]:
         if t.get_fontsize() < MIN_FONT_PT:
             small.setdefault(what, t.get_fontsize())
         for i in internal_ids_in(t.get_text()):
-            out.append(f"{tag}: internal id {i!r} in the {what} {t.get_text()!r} "
-                       f"(write {name(i)!r} or words)")
+            out.append(f"{tag}: internal id {i!r} in the {what} {t.get_text()!r} ({_words(i)})")
     for leg in fig.legends:
         if len(leg.get_texts()) > MAX_LEGEND:
             out.append(f"{tag}: figure legend with {len(leg.get_texts())} entries "
@@ -452,7 +455,7 @@ def check_figure(fig) -> list[str]:
                 small.setdefault(what, t.get_fontsize())
             for i in internal_ids_in(t.get_text()):
                 out.append(f"{where}: internal id {i!r} in the {what} {t.get_text()!r} "
-                           f"(write {name(i)!r} or words)")
+                           f"({_words(i)})")
         leg = ax.get_legend()
         if leg is not None and len(leg.get_texts()) > MAX_LEGEND:
             out.append(f"{where}: legend with {len(leg.get_texts())} entries (at most "
