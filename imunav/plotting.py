@@ -94,42 +94,47 @@ def _merge_identical(ids, series, rtol=1e-3):
     return groups
 
 
-def _group_label(g):
-    if len(g) == 1:
-        return name(g[0])
-    return ", ".join(name(i) for i in g[:-1]) + " and " + name(g[-1]) + " (coincide)"
+def plot_coinciding(ax, x, series: dict, ids, labels: bool = True, **kw):
+    """Draw ``series[i]`` for each id; where several coincide (to 1e-3 relative) they are drawn
+    as one striped line — widest first — so that every colour stays visible."""
+    for g in _merge_identical(ids, series):
+        k = len(g)
+        for j, i in enumerate(g):
+            extra = 2.0 * (k - 1 - j)
+            ax.plot(x, series[i], "-", marker="o", lw=1.5 + extra, ms=3.5 + extra,
+                    color=colour(i), label=name(i) if labels else "_" + i, **kw)
 
 
 def plot_error_vs_rate(rows: list[dict], rates=(50, 100, 200, 400), fig=None,
                        floors=(1e-10, 1e-11)):
-    """Maximum position (top) and attitude (bottom) error vs rate, log–log: one column per group
-    of :data:`ALGORITHM_GROUPS`. Algorithms whose errors coincide are one line that says so;
-    values below ``floors`` (m, deg: rounding) are drawn at the floor."""
+    """Maximum position (left) and attitude (right) error vs rate, log–log, one row per group of
+    :data:`ALGORITHM_GROUPS`. Algorithms whose errors coincide are drawn as one striped line;
+    values below ``floors`` (m, deg: rounding) are drawn on the floor (dotted)."""
     import matplotlib.pyplot as plt
 
-    fig = fig or plt.figure(figsize=(MAX_WIDTH_IN, 6.4), layout="constrained")
     by_id = {algorithm_id(r["kind"], r["algorithm"]): r for r in rows}
     groups = [(title, [i for i in ids if i in by_id]) for title, ids in ALGORITHM_GROUPS]
     groups = [(title, ids) for title, ids in groups if ids]
-    axs = fig.subplots(2, len(groups), sharex=True, sharey="row", squeeze=False)
-    for col, (title, ids) in enumerate(groups):
-        for row, (key, unit, scale, floor) in enumerate((("pos", "m", 1.0, floors[0]),
-                                                         ("att", "deg", 180 / np.pi, floors[1]))):
+    fig = fig or plt.figure(figsize=(MAX_WIDTH_IN, 0.9 + 2.3 * len(groups)), layout="constrained")
+    axs = fig.subplots(len(groups), 2, sharex=True, squeeze=False)
+    for row, (title, ids) in enumerate(groups):
+        for col, (key, what, unit, scale, floor) in enumerate(
+                (("pos", "position", "m", 1.0, floors[0]),
+                 ("att", "attitude", "deg", 180 / np.pi, floors[1]))):
             ax = axs[row, col]
             series = {i: [max(by_id[i][f"{key}_{r}"] * scale, floor) for r in rates] for i in ids}
-            for g in _merge_identical(ids, series):
-                ax.loglog(rates, series[g[0]], "o-", ms=3.5, color=colour(g[0]),
-                          label=_group_label(g))
+            plot_coinciding(ax, rates, series, ids, labels=col == 1)
+            ax.set_xscale("log")
+            ax.set_yscale("log")
             ax.axhline(floor, color="0.5", lw=0.8, ls=":")
             rate_ticks(ax, rates)
-            if col == 0:
-                ax.set_ylabel(f"max {'position' if key == 'pos' else 'attitude'} error ({unit})")
-            if row == 0:
-                ax.set_title(title)
-                ax.legend(loc="upper right", fontsize=8)
-            else:
+            ax.set(ylabel=f"max {what} error ({unit})")
+            ax.set_title(title if col == 0 else "", loc="left")
+            if row == len(groups) - 1:
                 ax.set_xlabel("sample rate (Hz)")
-    fig.suptitle("dotted: the rounding floor (errors below it drawn on it)", fontsize=9)
+        axs[row, 1].legend(loc="center left", bbox_to_anchor=(1.02, 0.5), fontsize=8)
+    fig.suptitle("dotted: the rounding floor (errors below it are drawn on it); "
+                 "lines that coincide are drawn as one striped line", fontsize=8.5)
     return fig
 
 

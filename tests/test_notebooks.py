@@ -75,11 +75,11 @@ def _sections(nb):
     """[(heading, [cells…])] of the `##` sections (cells before the first under None)."""
     out = [(None, [])]
     for c in nb.cells:
-        if c.cell_type == "markdown":
-            m = re.search(r"^## (.+)$", c.source, re.M)
-            if m:
-                out.append((m.group(1).strip(), [c]))
-                continue
+        heads = re.findall(r"^## (.+)$", c.source, re.M) if c.cell_type == "markdown" else []
+        for h in heads[:-1]:
+            out.append((h.strip(), []))
+        if heads:
+            out.append((heads[-1].strip(), []))
         out[-1][1].append(c)
     return out
 
@@ -159,7 +159,23 @@ ROOT = NB.parent
 #: written, a few words around it) → why.
 AUDIT_ALLOW: dict[tuple[str, str, str], str] = {}
 
-_SUP = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺", "0123456789-+")
+_SUP_DIGITS = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺", "0123456789-+")
+
+
+class _Sup:
+    """Superscripts as text: 10⁻⁶ → 1e-6, and any other x⁶ → x^6."""
+
+    _TEN = re.compile(r"(?<![\d.])10([⁻⁺]?[⁰¹²³⁴⁵⁶⁷⁸⁹]+)")
+    _ANY = re.compile(r"[⁻⁺]?[⁰¹²³⁴⁵⁶⁷⁸⁹]+")
+    _TIMES = re.compile(r"(\d)\s*[×x·]\s*1e")
+
+    def __call__(self, text: str) -> str:
+        text = self._TEN.sub(lambda m: "1e" + m.group(1).translate(_SUP_DIGITS), text)
+        text = self._TIMES.sub(lambda m: m.group(1) + "×1e", text)
+        return self._ANY.sub(lambda m: "^" + m.group(0).translate(_SUP_DIGITS), text)
+
+
+_sup = _Sup()
 _REMOVE = [
     re.compile(r"```.*?```", re.S), re.compile(r"`[^`]*`"), re.compile(r"\$\$.*?\$\$", re.S),
     re.compile(r"(?<!\\)\$[^$]*\$"), re.compile(r"<[^>]+>"), re.compile(r"\]\([^)]*\)"),
@@ -178,15 +194,15 @@ _REMOVE = [
     re.compile(r"\b\d+(?:\.\d+)?-(?=[A-Za-z])"),                              # 4-sample, 1000-run
     re.compile(r"\b\d+(?:st|nd|rd|th)\b"),                                    # 4th
 ]
-_NUM = re.compile(r"(?<![\w.])[-−]?(?:\d{1,3}(?:,\d{3})+|\d+)(?:\.\d+)?(?:[eE][-−+]?\d+)?"
-                  r"(?:\s*[×x·]\s*10[-+]?\d+)?(?![\w])")
+_NUM = re.compile(r"(?<![\w.^])[-−]?(?:\d{1,3}(?:,\d{3})+|\d+)(?:\.\d+)?(?:[eE][-−+]?\d+)?"
+                  r"(?:\s*[×x·]\s*1e[-+]?\d+)?(?![\w])")
 _ANY_NUM = re.compile(r"\d+(?:\.\d+)?(?:[eE][-−+]?\d+)?")
 
 
 def _parse(tok: str) -> tuple[float, float]:
     """(|value|, half a unit of its last written digit) of a prose number."""
     t = tok.replace("−", "-").replace(",", "").lstrip("-").strip()
-    m = re.match(r"^(.*?)\s*[×x·]\s*10([-+]?\d+)$", t)
+    m = re.match(r"^(.*?)\s*[×x·]\s*1e([-+]?\d+)$", t)
     mant, exp10 = (m.group(1), int(m.group(2))) if m else (t, 0)
     if "e" in mant.lower():
         mant, e = re.split("[eE]", mant)
@@ -200,18 +216,18 @@ def _parse(tok: str) -> tuple[float, float]:
 
 def prose_numbers(md: str) -> list[tuple[str, str]]:
     """The numbers a markdown text states, each with the words around it."""
-    text = md.translate(_SUP)
+    text = _sup(md)
     for pat in _REMOVE:
         text = pat.sub(lambda m: " " * len(m.group(0)), text)
     out = []
     for m in _NUM.finditer(text):
         a, b = max(0, m.start() - 30), min(len(md), m.end() + 30)
-        out.append((m.group(0), " ".join(md.translate(_SUP)[a:b].split())))
+        out.append((m.group(0), " ".join(_sup(md)[a:b].split())))
     return out
 
 
 def _numbers(text: str) -> list[float]:
-    return [abs(float(x)) for x in _ANY_NUM.findall(text.translate(_SUP).replace("−", "-"))]
+    return [abs(float(x)) for x in _ANY_NUM.findall(_sup(text).replace("−", "-"))]
 
 
 def _code_numbers(src: str) -> list[float]:
@@ -320,10 +336,11 @@ def test_the_audit_finds_what_it_should():
         "## 2. Coning: 5° half-angle\nThe error is 1.8e-6° (eq. (36), Savage 1998, Fig. 3, "
         "§4, notebook 06), the BMI088 and x-IMU3 at 50–100 Hz; `poly8_m6` of $2^4$ at 1.3 × 10⁻⁶; "
         "a 4-sample, 1000-run Monte Carlo; ≈ 70 m/s², −0.339 °/s, 99.7 %.")]
-    assert nums == ["5", "1.8e-6", "50", "100", "1.3 × 10-6", "70", "−0.339", "99.7"]
+    assert nums == ["5", "1.8e-6", "50", "100", "1.3×1e-6", "70", "−0.339", "99.7"]
     assert _parse("1.8e-6") == pytest.approx((1.8e-6, 0.5e-7))
     assert _parse("70") == pytest.approx((70.0, 5.0))
-    assert _parse("1.3 × 10-6") == pytest.approx((1.3e-6, 0.5e-7))
+    assert _parse("1.3×1e-6") == pytest.approx((1.3e-6, 0.5e-7))
+    assert [t for t, _ in prose_numbers("a factor 2⁶ and 10⁻⁶ m/s²")] == ["2", "1e-6"]
 
 
 def main(argv: list[str]) -> int:

@@ -535,8 +535,8 @@ def install_figure_check(mode: str = "raise") -> None:
 ALGORITHM_GROUPS = (
     ("rate samples", ("rates/first_order", "rates/exact_exponential", "rates/magnus4",
                       "rates/magnus6")),
-    ("increments: classic", ("increments/first_order", "increments/exact_exponential",
+    ("increments, classic", ("increments/first_order", "increments/exact_exponential",
                              "increments/coning2", "increments/ignagni2", "increments/miller3",
                              "increments/ignagni3", "increments/ignagni4")),
-    ("increments: offline, high order", ("increments/poly6_m4", "increments/poly8_m6")),
+    ("increments, offline", ("increments/poly6_m4", "increments/poly8_m6")),
 )
