@@ -80,8 +80,8 @@ def plot_run(res: RoundTrip, fig=None):
     return fig
 
 
-def _merge_identical(ids, series, rtol=1e-3):
-    """Group ids whose series agree to ``rtol`` at every point (drawn as one line that says so)."""
+def _merge_identical(ids, series, rtol=0.05):
+    """Group ids whose series agree to ``rtol`` at every point (on a log axis: the same line)."""
     groups: list[list[str]] = []
     for i in ids:
         for g in groups:
@@ -94,14 +94,16 @@ def _merge_identical(ids, series, rtol=1e-3):
     return groups
 
 
-def plot_coinciding(ax, x, series: dict, ids, labels: bool = True, **kw):
-    """Draw ``series[i]`` for each id; where several coincide (to 1e-3 relative) they are drawn
-    as one striped line — widest first — so that every colour stays visible."""
+def plot_coinciding(ax, x, series: dict, ids, labels: bool = True, marker: str | None = "o",
+                    lw: float = 1.5, **kw):
+    """Draw ``series[i]`` for each id; where several coincide (to 5 % at every point: one line
+    on a log axis) they are drawn as one striped line — widest first — so that every colour
+    stays visible."""
     for g in _merge_identical(ids, series):
         k = len(g)
         for j, i in enumerate(g):
             extra = 2.0 * (k - 1 - j)
-            ax.plot(x, series[i], "-", marker="o", lw=1.5 + extra, ms=3.5 + extra,
+            ax.plot(x, series[i], "-", marker=marker, lw=lw + extra, ms=3.5 + extra,
                     color=colour(i), label=name(i) if labels else "_" + i, **kw)
 
 
@@ -147,37 +149,47 @@ _QUANTITY = {"attitude": ("attitude", "deg", 180 / np.pi), "velocity": ("velocit
 def plot_error_vs_time(motion: BaseMotion, rate: float, names, duration: float | None = None,
                        ax=None, quantity: str = "attitude"):
     """Error norm (log scale) vs time for ``names`` = [(kind, algorithm), …] (at most 8);
-    ``quantity`` is ``"attitude"`` (deg), ``"velocity"`` (m/s) or ``"position"`` (m)."""
+    ``quantity`` is ``"attitude"`` (deg), ``"velocity"`` (m/s) or ``"position"`` (m).
+    Algorithms whose errors coincide are drawn as one striped line."""
     import matplotlib.pyplot as plt
 
     key, unit, scale = _QUANTITY[quantity]
     ax = ax or plt.figure(figsize=(WIDTH_IN, 3.4), layout="constrained").add_subplot()
+    ids, series, t = [], {}, None
     for kind, alg in names:
         e = round_trip(motion, rate, kind, alg, duration).errors
-        ax.semilogy(e.t[1:], _floor(getattr(e, key)[1:] * scale),
-                    **styled(algorithm_id(kind, alg), lw=1.3))
+        i = algorithm_id(kind, alg)
+        ids.append(i)
+        series[i], t = _floor(getattr(e, key)[1:] * scale), e.t[1:]
+    plot_coinciding(ax, t, series, ids, marker=None, lw=1.3)
+    ax.set_yscale("log")
     ax.set(xlabel="t (s)", ylabel=f"{key} error ({unit})",
            title=f"{getattr(motion, 'name', 'motion')} at {rate:g} Hz")
     return ax
 
 
 def plot_convergence(rows: list[dict], ax=None, key: str = "max_att_rad"):
-    """Log–log maximum error vs rate with a dotted reference line of each documented order."""
+    """Log–log maximum error vs rate (at most 8 algorithms), each with a dotted reference line
+    of its documented order; coinciding series are drawn as one striped line."""
     import matplotlib.pyplot as plt
 
     ax = ax or plt.figure(figsize=(WIDTH_IN, 3.6), layout="constrained").add_subplot()
-    for r in rows:
-        rates = np.asarray(r["rates"], float)
-        e = np.asarray(r[key])
-        if key == "max_att_rad":
-            e = np.degrees(e)
-        i = algorithm_id(r["kind"], r["algorithm"])
-        ax.loglog(rates, e, "o-", ms=3.5, color=colour(i),
-                  label=f"{name(i)} ({r['order_att']:.1f})")
-        p = r["documented"][0]
-        ax.loglog(rates, e[0] * (rates / rates[0]) ** (-p), ":", color=colour(i), lw=1)
-    ax.set(xlabel="sample rate (Hz)", ylabel="max attitude error (deg)")
-    rate_ticks(ax, sorted({float(x) for r in rows for x in r["rates"]}))
+    scale = 180 / np.pi if key == "max_att_rad" else 1.0
+    ids = [algorithm_id(r["kind"], r["algorithm"]) for r in rows]
+    by = dict(zip(ids, rows, strict=True))
+    series = {i: list(np.asarray(by[i][key]) * scale) for i in ids}
+    x = np.asarray(rows[0]["rates"], float)
+    plot_coinciding(ax, x, series, ids)
+    for line in ax.lines:
+        i = next(k for k in ids if name(k) == line.get_label() or "_" + k == line.get_label())
+        line.set_label(f"{name(i)} ({by[i]['order_att']:.1f})")
+    for i in ids:
+        e, p = np.asarray(series[i]), by[i]["documented"][0]
+        ax.plot(x, e[0] * (x / x[0]) ** (-p), ":", color=colour(i), lw=1)
+    ax.set(xscale="log", yscale="log", xlabel="sample rate (Hz)",
+           ylabel={"max_att_rad": "max attitude error (deg)", "max_vel": "max velocity error (m/s)",
+                   "max_pos": "max position error (m)"}[key])
+    rate_ticks(ax, x)
     ax.legend(title="measured order (dotted: documented)")
     return ax
 
