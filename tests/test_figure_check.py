@@ -207,3 +207,12 @@ def test_names_and_colours_hold_for_every_thing():
         assert len({P.colour(k) for k in terms}) == len(terms)
     presets = ["ideal", "BNO055", "MPU-6050", "BMI088", "ADIS16470", "tactical"]
     assert len({P.colour(k) for k in presets}) == len(presets)
+
+
+def test_3d_axes_are_not_judged_by_2d_geometry():
+    fig = plt.figure(figsize=(4, 4))
+    ax = fig.add_subplot(projection="3d")
+    ax.plot([0, 0.3], [0, 0.2], [0, 0.1], color="black", label="body x axis")
+    ax.set(xlim=(-1.1, 1.1), ylim=(-1.1, 1.1), zlim=(-1.1, 1.1))
+    ax.legend()
+    assert P.check_figure(fig) == []

@@ -126,7 +126,7 @@ def _things() -> dict[str, Thing]:
     t["rates"] = Thing("rate samples", "#848482", "--")
     t["increments"] = Thing("increments Δθ, Δv", "#0067A5")
     # The papers' schemes (imunav.papers): Marusenkova's attitude schemes, Plaksiy's updates.
-    for key, words, c in (("dcm", "DCM", "#0067A5"), ("quat", "quaternion", "#E25822"),
+    for key, words, c in (("dcm", "classic DCM", "#0067A5"), ("quat", "classic quaternion", "#E25822"),
                           ("quat_amended", "amended quaternion (eq. 36)", "#008856"),
                           ("dcm_amended", "exact DCM (not in the paper)", "#875692"),
                           ("series4", "4th-order series update", "#F6A600"),
@@ -473,6 +473,8 @@ def check_figure(fig) -> list[str]:
             out.append(f"{where}: {len(units)} units on one y axis: "
                        + ", ".join(f"{k} ({v})" for k, v in units.items())
                        + " — one quantity per axis (small multiples or a twin axis)")
+        if getattr(ax, "name", "") == "3d":       # 2-D geometry does not apply to 3-D axes
+            continue
         if not hasattr(ax, "_colorbar"):
             pos = ax.get_position()
             w, h = pos.width * fw, pos.height * fh
