@@ -36,6 +36,7 @@ import numpy as np
 import numpy.typing as npt
 import sympy as sp
 
+from imunav.core import style
 from imunav.core.constants import DEG, G0
 from imunav.core.rotations import FloatArray, _angle, _exp, _mul, _rotate, quat_to_euler
 from imunav.core.validation import ImunavError, as_float_array, check_positive
@@ -45,6 +46,13 @@ from imunav.papers.records import judge_bound, record, small
 from imunav.sensors.simulate import simulate_imu
 from imunav.strapdown.alignment import gravity_reading, level_attitude, remove_static_biases
 from imunav.strapdown.scan import cumulative_product
+
+#: The paper, as its text prints it (the notebook's and the book's bibliography).
+CITATION = {"authors": "P. M. Dickson and P. J. Rae",
+            "title": "The Application of Quaternions to Strap-Down MEMS Sensor Data",
+            "venue": "Sensors", "year": 2021, "volume": 21, "issue": 22, "article": 7658,
+            "doi": "10.3390/s21227658", "affiliation": "Los Alamos National Laboratory"}
+
 
 #: Stored figures' resolution (dpi).
 FIG_DPI = 150
@@ -416,59 +424,70 @@ def draw_object(ax, q: FloatArray, p: FloatArray, color="C0"):
 
 
 def plot_rates(rec: BlastRecording, ax=None):
-    """Fig. 2 analogue: raw angular rates (deg/s) in the sensor frame."""
-    import matplotlib.pyplot as plt
-
-    ax = ax or plt.figure(figsize=(9, 3.5)).add_subplot()
+    """Fig. 2 analogue: raw angular rates (°/s) in the sensor frame, with the gyro's range."""
+    if ax is None:
+        _, ax = style.figure(1, 1, height=3.0)
     s = slice(None, None, 20)
     for i, c in enumerate("XYZ"):
-        ax.plot(rec.t[s], np.degrees(rec.gyro[s, i]), lw=0.8, label=f"ω_{c}")
-    ax.axhline(np.degrees(rec.gyro_range), color="k", ls=":", lw=0.8)
-    ax.axhline(-np.degrees(rec.gyro_range), color="k", ls=":", lw=0.8)
-    ax.set(xlabel="t (s)", ylabel="deg/s", title="raw angular rates (sensor frame), ±300°/s range")
-    ax.legend()
+        ax.plot(rec.t[s], np.degrees(rec.gyro[s, i]), lw=0.9, label=f"about {c}",
+                **style.style(f"axis.{'xyz'[i]}"))
+    ax.axhline(np.degrees(rec.gyro_range), color="0.3", ls=":", lw=1, label="gyro range")
+    ax.axhline(-np.degrees(rec.gyro_range), color="0.3", ls=":", lw=1)
+    ax.set(xlabel="t (s)", ylabel="angular rate (°/s)",
+           title=f"raw angular rates in the sensor frame (range ±{np.degrees(rec.gyro_range):.0f}°/s)")
+    ax.legend(loc="upper right", ncols=2)
     return ax
 
 
-def plot_angles(rec: BlastRecording, res: BlastResult, ax=None):
-    """Fig. 3 analogue: roll, pitch, yaw (deg) vs time, processed and true."""
-    import matplotlib.pyplot as plt
-
-    ax = ax or plt.figure(figsize=(9, 4)).add_subplot()
+def plot_angles(rec: BlastRecording, res: BlastResult, fig=None):
+    """Fig. 3 analogue: yaw, pitch, roll (°) vs time — processed (thin) drawn over the truth
+    (a wide light band) — and, below, processed minus truth for each angle."""
+    if fig is None:
+        fig, (ax, ax2) = style.figure(2, 1, height=4.6, sharex=True,
+                                      gridspec_kw={"height_ratios": (2, 1)})
+    else:
+        ax, ax2 = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": (2, 1)})
     s = slice(None, None, 50)
     e = np.degrees(quat_to_euler(res.q[s]))
     et = np.degrees(quat_to_euler(rec.truth_q[s]))
-    for i, (name, c) in enumerate((("yaw", "C0"), ("pitch", "C1"), ("roll", "C2"))):
-        ax.plot(rec.t[s], e[:, i], color=c, label=f"{name} (processed)")
-        ax.plot(rec.t[s], et[:, i], color=c, ls=":", lw=2, alpha=0.6, label=f"{name} (truth)")
-    ax.set(xlabel="t (s)", ylabel="deg", title="orientation after quaternion data reduction")
-    ax.legend(fontsize=7, ncol=3)
-    return ax
+    for i, (nm, ax_id) in enumerate((("yaw", "axis.z"), ("pitch", "axis.y"), ("roll", "axis.x"))):
+        c = style.colour(ax_id)
+        ax.plot(rec.t[s], et[:, i], color=c, lw=6, alpha=0.25, label=f"{nm}, truth (band)")
+        ax.plot(rec.t[s], e[:, i], color=c, lw=1.0, label=f"{nm}, processed")
+        ax2.plot(rec.t[s], np.angle(np.exp(1j * np.radians(e[:, i] - et[:, i]))) * 180 / np.pi,
+                 color=c, lw=1.0, label=nm)
+    ax.set(ylabel="angle (°)", title="orientation after the quaternion data reduction")
+    ax.legend(loc="upper right", ncols=2, fontsize=8)
+    ax2.set(xlabel="t (s)", ylabel="processed − truth (°)")
+    ax2.legend(loc="upper left", ncols=3, fontsize=8)
+    return fig
 
 
-def plot_frames(rec: BlastRecording, res: BlastResult, times=(0.0, 0.25, 0.5, 1.0, 2.0), fig=None):
-    """Fig. 4 analogue: five frames of the object (processed attitude and corrected position)."""
+def plot_frames(rec: BlastRecording, res: BlastResult, times=(0.0, 0.25, 0.5, 1.0, 1.5, 2.0),
+                fig=None):
+    """Fig. 4 analogue: six frames of the object (processed attitude and corrected position),
+    in the fixed NED frame drawn with height up."""
     import matplotlib.pyplot as plt
 
-    fig = fig or plt.figure(figsize=(15, 3.4))
+    fig = fig or plt.figure(figsize=(6.5, 4.6), layout="constrained")
     for n, tt in enumerate(times):
         k = int(np.argmin(np.abs(rec.t - tt)))
-        ax = fig.add_subplot(1, len(times), n + 1, projection="3d")
+        ax = fig.add_subplot(2, 3, n + 1, projection="3d")
         path = res.p[: k + 1: 200] * [1, 1, -1]
-        ax.plot(*path.T, "k:", lw=1)
+        ax.plot(*path.T, ":", color="0.3", lw=1)
         draw_object(ax, res.q[k], res.p[k])
-        ax.set(xlim=(-4, 1), ylim=(-2.5, 2.5), zlim=(-3, 1), title=f"t = {rec.t[k]:.2f} s")
+        ax.set(xlim=(-4, 1), ylim=(-2.5, 2.5), zlim=(-3, 1), title=f"t = {rec.t[k]:.2f} s",
+               xticks=(-4, -2, 0), yticks=(-2, 0, 2), zticks=(-2, 0))
         label_ned_axes(ax)
-    fig.tight_layout()
     return fig
 
 
 def label_ned_axes(ax):
     """Label a 3-D axes drawn with plot height = −z (NED: x north, y east, z down)."""
-    ax.set_xlabel("north x (m)", fontsize=7, labelpad=-6)
-    ax.set_ylabel("east y (m)", fontsize=7, labelpad=-6)
-    ax.set_zlabel("up −z (m)", fontsize=7, labelpad=-6)
-    ax.tick_params(labelsize=6, pad=-2)
+    ax.set_xlabel("north (m)", fontsize=8, labelpad=-4)
+    ax.set_ylabel("east (m)", fontsize=8, labelpad=-4)
+    ax.set_zlabel("up (m)", fontsize=8, labelpad=-4)
+    ax.tick_params(labelsize=8, pad=-2)
 
 
 def animation(rec: BlastRecording, res: BlastResult, frames: int = 40):
@@ -476,7 +495,7 @@ def animation(rec: BlastRecording, res: BlastResult, frames: int = 40):
     import matplotlib.pyplot as plt
     from matplotlib.animation import FuncAnimation
 
-    fig = plt.figure(figsize=(5, 4))
+    fig = plt.figure(figsize=(4.6, 3.8))
     ax = fig.add_subplot(projection="3d")
     idx = np.linspace(0, len(rec.t) - 1, frames).astype(int)
 
@@ -502,7 +521,7 @@ def reproduce(out) -> list[dict]:
     rec = record_blast()
     res = process(rec)
     for name, fn in (("fig2_rates", lambda: plot_rates(rec).figure),
-                     ("fig3_angles", lambda: plot_angles(rec, res).figure),
+                     ("fig3_angles", lambda: plot_angles(rec, res)),
                      ("fig4_frames", lambda: plot_frames(rec, res))):
         f = fn()
         f.savefig(out / f"dickson_rae2021_{name}.png", dpi=FIG_DPI)
@@ -766,20 +785,19 @@ def plot_tait_bryan(psi: float = 40 * DEG, theta: float = 25 * DEG, phi: float =
     fixed NED frame (x north, y east, z down: the z axis is drawn pointing down)."""
     import matplotlib.pyplot as plt
 
-    fig = fig or plt.figure(figsize=(14, 4.4))
+    fig = fig or plt.figure(figsize=(6.0, 5.6), layout="constrained")
     steps = [("object = fixed frame", (0.0, 0.0, 0.0)),
              (f"heading ψ = {np.degrees(psi):.0f}° about z", (psi, 0.0, 0.0)),
              (f"elevation θ = {np.degrees(theta):.0f}° about new y", (psi, theta, 0.0)),
              (f"bank φ = {np.degrees(phi):.0f}° about new x", (psi, theta, phi))]
-    colours = ("C3", "C2", "C0")
+    colours = [style.colour(f"axis.{a}") for a in "xyz"]
     for n, (title, (a, b, c)) in enumerate(steps):
-        ax = fig.add_subplot(1, 4, n + 1, projection="3d")
+        ax = fig.add_subplot(2, 2, n + 1, projection="3d")
         q = tait_bryan_to_quat(a, b, c)
-        for i, (col, lab) in enumerate(zip(colours, ("x (north)", "y (east)", "z (down)"),
-                                           strict=True)):
+        for i, (col, lab) in enumerate(zip(colours, ("north", "east", "down"), strict=True)):
             e = np.eye(3)[i]
             ax.plot(*np.stack([np.zeros(3), e]).T, color=col, lw=0.8, ls=":")
-            ax.text(*(1.15 * e), lab.split()[0], color=col, fontsize=7)
+            ax.text(*(1.2 * e), lab, color=col, fontsize=8)
             b_axis = _rotate(q, e)
             ax.quiver(0, 0, 0, *b_axis, color=col, lw=2, arrow_length_ratio=0.15)
             ax.text(*(1.05 * b_axis), f"{'XYZ'[i]}", color=col, fontsize=9, weight="bold")
@@ -791,13 +809,9 @@ def plot_tait_bryan(psi: float = 40 * DEG, theta: float = 25 * DEG, phi: float =
             ax.plot(*np.stack([bb[k], nn]).T, color="0.55", lw=0.5)
         ax.set(xlim=(-1.1, 1.1), ylim=(-1.1, 1.1), zlim=(1.1, -1.1), xticks=[], yticks=[],
                zticks=[], title=title)
-        ax.set_xlabel("north", fontsize=7, labelpad=-12)
-        ax.set_ylabel("east", fontsize=7, labelpad=-12)
-        ax.set_zlabel("down", fontsize=7, labelpad=-14)
-        ax.title.set_fontsize(9)
-    fig.suptitle("Fig. 1: Tait–Bryan intrinsic rotations (dotted: fixed NED axes; arrows: "
-                 "object axes X, Y, Z; the cone's nose is X)", fontsize=10)
-    fig.subplots_adjust(left=0.0, right=0.97, wspace=0.05, top=0.88, bottom=0.02)
+        ax.set_box_aspect(None, zoom=1.3)
+    fig.suptitle("Fig. 1: Tait–Bryan intrinsic rotations (dotted: fixed NED axes; arrows:\n"
+                 "the object's axes X, Y, Z; the cone's nose is X)")
     return fig
 
 

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from imunav.analysis.metrics import nav_errors
+from imunav.core import style
 from imunav.core.constants import G0
 from imunav.core.rotations import (
     FloatArray,
@@ -49,6 +50,16 @@ from imunav.sensors.simulate import simulate_imu
 from imunav.strapdown.registry import navigate
 from imunav.strapdown.scan import cumulative_product, prefix_product
 from imunav.symbolic import marusenkova as S
+
+#: The paper, as its text prints it (the notebook's and the book's bibliography). The text
+#: prints the DOI but not the journal's name; the DOI prefix is that of *Tehnichna inzhenerija*
+#: (its own reference [8] carries the same prefix).
+CITATION = {"authors": "T. A. Marusenkova",
+            "title": "A precise quaternion-based navigation algorithm for simulating signals of "
+                     "accelerometers and gyroscopes with low sample frequencies",
+            "venue": None, "year": 2020, "doi": "10.26642/ten-2020-2(86)-86-94",
+            "affiliation": "Lviv Polytechnic National University"}
+
 
 SCHEMES = ("dcm", "quat", "quat_amended", "dcm_amended")
 #: The paper's own schemes (``dcm_amended`` is imunav's answer to its Conclusion 2).
@@ -381,7 +392,7 @@ def reproduce(out) -> list[dict]:
                        "SymPy (canonical trigonometric form) and numerically"))
     g = gyro_vs_rates()
     recs.append(record("marusenkova2020.partA.gyro_is_minus_omega_n", "|Part A DCM gyro − (−ω_n)| "
-                       "at t = 3 s, fig1a, 100 Hz", None, g["to_minus_omega_n"], "rad/s",
+                       "at t = 3 s, Fig. 1a motion, 100 Hz", None, g["to_minus_omega_n"], "rad/s",
                        "differs",
                        f"the paper's 'gyroscope signal' is −ω_n = −C_nb ω_b (within "
                        f"{g['to_minus_omega_n']:.1e} rad/s, the O(dt²) of its difference) and "
@@ -410,18 +421,18 @@ def reproduce(out) -> list[dict]:
         am = round_trip(fig, 100, "quat_amended", "quat_amended")
         classic[fig] = cl = round_trip(fig, 100, "dcm", "dcm")
         recs.append(record(f"marusenkova2020.{fig}.amended_quaternion.max_position_error_100hz",
-                           f"{fig}: max position discrepancy, amended quaternions in A and B, "
+                           f"{FIG_SHORT[fig]}: max position discrepancy, amended quaternions in A and B, "
                            "100 Hz", 0.0, am["max"], "m", "reproduced",
                            "restored to rounding, as claimed — because the amended pair inverts "
                            "its own discretisation (a consistency check, not accuracy)"))
         recs.append(record(f"marusenkova2020.{fig}.classic_dcm.max_position_error_100hz",
-                           f"{fig}: max position discrepancy, classic DCM in A and B, 100 Hz",
+                           f"{FIG_SHORT[fig]}: max position discrepancy, classic DCM in A and B, 100 Hz",
                            None, cl["max"], "m", "not reproducible",
                            "the paper gives no rotation law and no numbers; with ours the "
                            "classic scheme shows the figure's visible discrepancy, smaller at "
                            "higher rates", "rotation law: " + rot))
     obs = observations()
-    recs.append(record("marusenkova2020.observation1.trajectory_matters", "fig2 / fig1a max "
+    recs.append(record("marusenkova2020.observation1.trajectory_matters", "Fig. 2 / Fig. 1a max "
                        "position discrepancy, classic DCM, 100 Hz, same rotation law", None,
                        obs["fig2_over_fig1a"], "1", "reproduced",
                        f"the same rotation law and rate give {obs['fig1a']:.2f} m on Fig. 1a and "
@@ -432,13 +443,13 @@ def reproduce(out) -> list[dict]:
                        "discrepancy / trajectory extent, classic DCM, 100 Hz, Figs. 1a, 1b, 2",
                        None, obs["worst_relative"], "1", "not reproducible",
                        "the paper names no trajectory, law or measure for 'almost "
-                       f"irreproducible'; with our law the worst is {obs['worst_fig']} at "
+                       f"irreproducible'; with our law the worst is {FIG_SHORT[obs['worst_fig']]} at "
                        f"{100 * obs['worst_relative']:.0f} % of its extent at 100 Hz "
                        f"({100 * obs['worst_relative_1000']:.1f} % at 1000 Hz), and the "
                        "amended scheme restores every one"))
     thr = threshold_order()
     recs.append(record("marusenkova2020.observation3.threshold_frequency", "fitted order of the "
-                       "classic DCM discrepancy vs rate, fig1a, 25–3200 Hz", None, thr["order"],
+                       "classic DCM discrepancy vs rate, Fig. 1a, 25–3200 Hz", None, thr["order"],
                        "1", "not reproducible",
                        "no threshold appears with our rotation law — the discrepancy falls as "
                        f"rate^−{thr['order']:.2f} up to 3200 Hz (lowest pairwise slope "
@@ -453,7 +464,7 @@ def reproduce(out) -> list[dict]:
     span = {f: (min(ratios[f, s] for s in (0.5, 1, 2, 3)), max(ratios[f, s] for s in
                                                                (0.5, 1, 2, 3)))
             for f in ("fig1a", "fig1b", "fig2")}
-    recs.append(record("marusenkova2020.claim.quaternion_beats_dcm", "fig2, 100 Hz: classic DCM "
+    recs.append(record("marusenkova2020.claim.quaternion_beats_dcm", "Fig. 2, 100 Hz: classic DCM "
                        "discrepancy / classic quaternion discrepancy", None, ratios["fig2", 1.0],
                        "1", "reproduced",
                        f"on Fig. 2 quaternions are better for every rotation scale tried "
@@ -461,7 +472,7 @@ def reproduce(out) -> list[dict]:
                        "paper reads off its Fig. 2"))
     for fig in ("fig1a", "fig1b"):
         recs.append(record(f"marusenkova2020.claim.quaternion_beats_dcm.{fig}",
-                           f"{fig}, 100 Hz: classic DCM / classic quaternion discrepancy", None,
+                           f"{FIG_SHORT[fig]}, 100 Hz: classic DCM / classic quaternion discrepancy", None,
                            ratios[fig, 1.0], "1", "no paper value",
                            "the paper shows no quaternion result for Fig. 1; here the ranking "
                            f"depends on the rotation law ({span[fig][0]:.2f}–{span[fig][1]:.2f}× "
@@ -469,7 +480,7 @@ def reproduce(out) -> list[dict]:
                            "'generally' is not a property of the trajectory"))
     sk = omega_skew_defect()
     recs.append(record("marusenkova2020.claim.omega_never_skew_symmetric", "smallest ratio of "
-                       "the symmetric to the skew part of Ω_orig over every step, fig1a, "
+                       "the symmetric to the skew part of Ω_orig over every step, Fig. 1a, "
                        "100 Hz", None, sk["min_ratio"], "1", "reproduced",
                        "Ω_orig + Ω_origᵀ = −2(1 − cos α)(I − nnᵀ)/dt for a step turning by α "
                        "about n, so its symmetric part is tan(α/2) of its skew part (to "
@@ -497,28 +508,28 @@ def reproduce(out) -> list[dict]:
                        "trajectories the translational motion scales it (observation 1)"))
     xy = xy_coincidence()
     recs.append(record("marusenkova2020.claim.xy_coincidence", "max x–y discrepancy, yaw-only "
-                       "rotation, classic DCM in A and B, fig1a, 100 Hz", None, xy[0]["xy"], "m",
+                       "rotation, classic DCM in A and B, Fig. 1a, 100 Hz", None, xy[0]["xy"], "m",
                        "differs",
                        "with yaw only the z coordinate is restored exactly (Ω(3,3) = 0) but x–y "
                        "is not: the coincidence the reasoning supports is along z",
                        "; ".join(f"{r['fig']}: x–y {r['xy']:.3g} m, z {r['z']:.1g} m" for r in xy)))
     da = round_trip("fig2", 100, "dcm_amended", "dcm_amended")
-    recs.append(record("marusenkova2020.claim.dcm_amendable", "fig2, 100 Hz: max position "
+    recs.append(record("marusenkova2020.claim.dcm_amendable", "Fig. 2, 100 Hz: max position "
                        "discrepancy, exact DCM update (matrix log in A, Rodrigues in B)", None,
                        da["max"], "m", "differs",
                        "Conclusion 2 says DCMs can scarcely be amended; the exact DCM update "
                        "restores every trajectory to rounding, as the amended quaternions do"))
     amb = {fig: round_trip(fig, 100, "quat", "quat")["max"]
            / round_trip(fig, 100, "quat", "quat_amended")["max"] for fig in ("fig1a", "fig2")}
-    recs.append(record("marusenkova2020.amend_part_b_only.gain_fig1a", "fig1a, 100 Hz: classic "
+    recs.append(record("marusenkova2020.amend_part_b_only.gain_fig1a", "Fig. 1a, 100 Hz: classic "
                        "quaternion discrepancy / with only Part B amended", None, amb["fig1a"],
                        "1", "no paper value",
                        f"amending Part B alone gains {np.log10(amb['fig1a']):.1f} orders of "
-                       f"magnitude on fig1a ({np.log10(amb['fig2']):.1f} on fig2); the paper "
+                       f"magnitude on Fig. 1a ({np.log10(amb['fig2']):.1f} on Fig. 2); the paper "
                        "amends both parts"))
     dg = arccos_digits()
     recs.append(record("marusenkova2020.eq34.arccos_digits_kept", "digits of Φ = 2 arccos(q₁) "
-                       "(eq. 34), fig1a at 100 Hz, vs 2 atan2(|q_v|, q₁)", None, dg["digits_kept"],
+                       "(eq. 34), Fig. 1a at 100 Hz, vs 2 atan2(|q_vec|, q₁)", None, dg["digits_kept"],
                        "digits", "no paper value",
                        f"arccos keeps {dg['digits_kept']:.1f} of 16 digits at steps of "
                        f"{dg['median_step_rad']:.1e} rad, which changes the amended round trip "
@@ -535,7 +546,7 @@ def reproduce(out) -> list[dict]:
                        "every trajectory and rate — because Part B "
                        "inverts Part A's own discretisation"))
     ek = amended_with_exact_kinematics("fig1a", 100)
-    recs.append(record("marusenkova2020.amended.exact_kinematics_100hz", "fig1a, 100 Hz: max "
+    recs.append(record("marusenkova2020.amended.exact_kinematics_100hz", "Fig. 1a, 100 Hz: max "
                        "position discrepancy of the amended pair when Part A takes the true "
                        "velocity and acceleration", None, ek["exact_kinematics"], "m",
                        "no paper value",
@@ -543,7 +554,7 @@ def reproduce(out) -> list[dict]:
                        f"amended round trip is off by {ek['exact_kinematics']:.2g} m: its "
                        "exactness is consistency, not accuracy"))
     c1 = round_trip("fig1a", 1000, "dcm", "dcm")["max"]
-    recs.append(record("marusenkova2020.conclusion1.classic_erroneous_at_1000hz", "fig1a: max "
+    recs.append(record("marusenkova2020.conclusion1.classic_erroneous_at_1000hz", "Fig. 1a: max "
                        "position discrepancy, classic DCM in A and B, 1000 Hz", None, c1, "m",
                        "reproduced",
                        "the classic small-rotation equations still leave "
@@ -552,7 +563,7 @@ def reproduce(out) -> list[dict]:
                        "concluded"))
     phys = physical_table("fig1a", rates=(100,))
     pv = {(r["kind"], r["scheme"]): r["max_pos"] for r in phys}
-    recs.append(record("marusenkova2020.real_signals.amended_100hz", "fig1a, 100 Hz: max position "
+    recs.append(record("marusenkova2020.real_signals.amended_100hz", "Fig. 1a, 100 Hz: max position "
                        "error restoring from real body-frame gyro rates with the amended Part B "
                        "and the paper's rectangle integration", None,
                        pv["rates", "quat_amended"], "m", "no paper value",
@@ -561,9 +572,9 @@ def reproduce(out) -> list[dict]:
                        f"{pv['increments', 'quat_amended']:.2f} m from increments): the "
                        "rectangle-rule velocity and position cost, not the attitude"))
     best = max(pv["rates", "imunav:magnus6"], pv["increments", "imunav:poly8_m6"])
-    recs.append(record("marusenkova2020.real_signals.best_algorithm_100hz", "fig1a, 100 Hz: "
-                       "larger max position error of imunav's magnus6 (rates) and poly8_m6 "
-                       "(increments) from real body-frame signals", None, best, "m",
+    recs.append(record("marusenkova2020.real_signals.best_algorithm_100hz", "Fig. 1a, 100 Hz: "
+                       "larger max position error of imunav's Magnus-6 (rates) and 8-node fit + "
+                       "Magnus-6 (increments) from real body-frame signals", None, best, "m",
                        "no paper value",
                        "high-order strapdown algorithms restore the trajectory from real "
                        "signals at 100 Hz to rounding: the algorithm, not the rate, limits the "
@@ -585,9 +596,8 @@ def reproduce(out) -> list[dict]:
     return recs
 
 
-#: Readable names of the Part A / Part B schemes (figures and tables).
-SCHEME_NAMES = {"dcm": "classic DCM", "quat": "classic quaternion",
-                "quat_amended": "amended quaternion", "dcm_amended": "exact DCM (imunav)"}
+#: Short names of the paper's trajectories.
+FIG_SHORT = {"fig1a": "Fig. 1a", "fig1b": "Fig. 1b", "fig2": "Fig. 2"}
 #: Readable names of the paper's trajectories.
 FIG_NAMES = {"fig1a": "Fig. 1a (x = t², y = t sin²t, z = 2t)",
              "fig1b": "Fig. 1b (x = 2 sin t, y = 3 cos t, z = 0)",
@@ -595,101 +605,96 @@ FIG_NAMES = {"fig1a": "Fig. 1a (x = t², y = t sin²t, z = 2t)",
 
 
 def combo_name(a: str, b: str) -> str:
-    """'classic DCM → amended quaternion' for a Part A / Part B pair."""
-    return SCHEME_NAMES[a] if a == b else f"{SCHEME_NAMES[a]} → {SCHEME_NAMES[b]}"
+    """Readable name of a Part A / Part B pair: 'classic DCM' (both), else 'A → B'."""
+    return style.name(a) if a == b else f"{style.name(a)} → {style.name(b)}"
+
+
+def combo_style(a: str, b: str) -> dict:
+    """Colour and line style of a Part A / Part B pair: Part B's scheme's colour (it sets the
+    error), solid when both parts agree, dotted when Part A differs."""
+    return style.style(b, linestyle="-" if a == b else ":")
+
+
+def _log_floor(ax, curves, decades: float = 8.0) -> None:
+    """Bottom of a log y axis ``decades`` below the largest value drawn (rounding-level
+    starts would otherwise stretch it to 1e-16)."""
+    top = max(float(np.max(c)) for c in curves)
+    ax.set_ylim(bottom=top * 10.0**-decades, top=top * 3)
 
 
 def plot_error_vs_rate(curves: dict, rates=(25, 50, 100, 200, 400, 800, 1600, 3200), ax=None):
     """Max position discrepancy vs rate for Part A → Part B pairs (log–log), with a 1/rate
-    guide; pairs whose curves coincide are drawn once and named together."""
-    import matplotlib.pyplot as plt
-
+    guide; pairs whose curves coincide within 1 % are drawn once and named together."""
     if ax is None:
-        _, ax = plt.subplots(figsize=(7.0, 3.6))
-    drawn: list[tuple[np.ndarray, list[str]]] = []
+        _, ax = style.figure(1, 1, height=3.4)
+    drawn: list[tuple[np.ndarray, list[tuple[str, str]]]] = []
     for (a, b), e in curves.items():
         e = np.maximum(np.asarray(e, float), 1e-16)
         for d in drawn:
             if np.allclose(d[0], e, rtol=0.01):
-                d[1].append(combo_name(a, b))
+                d[1].append((a, b))
                 break
         else:
-            drawn.append((e, [combo_name(a, b)]))
-    for i, (e, names) in enumerate(drawn):
+            drawn.append((e, [(a, b)]))
+    for e, pairs in drawn:
+        names = [combo_name(*p) for p in pairs]
         label = names[0] if len(names) == 1 else " and ".join(names) + " (coincide within 1 %)"
-        ax.loglog(rates, e, "-", label=label, color=f"C{i}", marker="osD^v<>p"[i % 8])
-    ax.loglog(rates, curves[next(iter(curves))][2] * 100 / np.asarray(rates, float), "k:", lw=1,
+        ax.loglog(rates, e, marker="o", ms=4, label=label, **combo_style(*pairs[0]))
+    first = curves[next(iter(curves))]
+    ax.loglog(rates, first[2] * 100 / np.asarray(rates, float), color="0.4", ls="--", lw=1,
               label="∝ 1/rate")
     ax.set(xlabel="sample rate (Hz)", ylabel="max position discrepancy (m)",
            title="Fig. 1a trajectory: discrepancy vs sample rate")
-    ax.set_xticks(list(rates), [f"{r:g}" for r in rates])
-    ax.minorticks_off()
-    ax.legend(fontsize=8, loc="lower left")
+    style.rate_ticks(ax, rates)
+    ax.legend(loc="lower left", bbox_to_anchor=(0.0, 0.16))
     return ax.figure
 
 
 def plot_round_trips(items, fig_name: str, fig=None):
     """Original vs restored trajectory (the plane of its two largest extents) beside the
-    discrepancy |restored − original| vs time (log scale, one curve per run, shared axes).
+    discrepancy |restored − original| vs time (log scale, one curve per run: colour by scheme,
+    solid at the lowest rate, dashed at the others).
 
     ``items``: ``[(round_trip result, rate, scheme A, scheme B), …]``."""
-    import matplotlib.pyplot as plt
-
-    fig = fig or plt.figure(figsize=(7.0, 3.3))
-    ax0 = fig.add_subplot(1, 2, 1)
-    ax1 = fig.add_subplot(1, 2, 2)
+    if fig is None:
+        fig, (ax0, ax1) = style.figure(1, 2, height=3.2)
+    else:
+        ax0, ax1 = fig.subplots(1, 2)
     o = items[0][0]["original"]
     i, j = np.argsort(-np.ptp(o, axis=0))[:2]
     names = "xyz"
     ax0.plot(o[:, i], o[:, j], "-", color="0.6", lw=4, label="original")
     worst = max(items, key=lambda it: it[0]["max"])
     r = worst[0]["restored"]
-    ax0.plot(r[:, i], r[:, j], "--", color="C3", lw=1.2,
-             label=f"restored, {combo_name(worst[2], worst[3])}, {worst[1]:g} Hz")
-    ax0.set(xlabel=f"{names[i]} (m)", ylabel=f"{names[j]} (m)")
-    ax0.legend(fontsize=8, loc="best")
-    for k, (res, rate, a, b) in enumerate(items):
-        ax1.semilogy(res["t"][1:], np.maximum(res["error"][1:], 1e-16),
-                     label=f"{combo_name(a, b)}, {rate:g} Hz", color=f"C{k}",
-                     marker="osD^"[k % 4], markevery=max(1, len(res["t"]) // 8))
-    ax1.set(xlabel="t (s)", ylabel="|restored − original| (m)")
-    ax1.legend(fontsize=8, loc="lower right")
-    fig.suptitle(FIG_NAMES[fig_name], fontsize=10)
-    fig.tight_layout()
+    ax0.plot(r[:, i], r[:, j], "--", color=style.colour(worst[3]), lw=1.2,
+             label=f"restored: {combo_name(worst[2], worst[3])}, {worst[1]:g} Hz")
+    ax0.set(xlabel=f"{names[i]} (m)", ylabel=f"{names[j]} (m)", title="trajectory")
+    ax0.legend(loc="best")
+    lowest = min(it[1] for it in items)
+    curves = []
+    for res, rate, a, b in items:
+        e = np.maximum(res["error"][1:], 1e-16)
+        curves.append(e)
+        st = combo_style(a, b)
+        if rate != lowest:
+            st["linestyle"] = "--"
+        ax1.semilogy(res["t"][1:], e, label=f"{combo_name(a, b)}, {rate:g} Hz", **st)
+    _log_floor(ax1, curves)
+    ax1.set(xlabel="t (s)", ylabel="|restored − original| (m)", title="discrepancy")
+    ax1.legend(loc="lower right")
+    fig.suptitle(FIG_NAMES[fig_name])
     return fig
-
-
-def plot_round_trip(res: dict, title: str = "", ax=None):
-    """Original vs restored trajectory in the x–y and y–z planes."""
-    import matplotlib.pyplot as plt
-
-    if ax is None:
-        fig, ax = plt.subplots(1, 2, figsize=(7.0, 3.0))
-    o, r = res["original"], res["restored"]
-    ax[0].plot(o[:, 0], o[:, 1], "-", color="0.6", lw=4, label="original")
-    ax[0].plot(r[:, 0], r[:, 1], "--", color="C3", label="restored")
-    ax[0].set(xlabel="x (m)", ylabel="y (m)")
-    ax[1].plot(o[:, 1], o[:, 2], "-", color="0.6", lw=4, label="original")
-    ax[1].plot(r[:, 1], r[:, 2], "--", color="C3", label="restored")
-    ax[1].set(xlabel="y (m)", ylabel="z (m)")
-    ax[0].legend(fontsize=8)
-    ax[0].set_title(title, fontsize=9)
-    ax[1].set_title(f"max discrepancy {res['max']:.3g} m", fontsize=9)
-    return ax
 
 
 def plot_fig3(deg, omc, ams, ax=None):
     """Fig. 3: 1 − cos α and α − sin α for α from 0 to 5°."""
-    import matplotlib.pyplot as plt
-
     if ax is None:
-        _, ax = plt.subplots(figsize=(5.0, 3.2))
+        _, ax = style.figure(1, 1, width=5.0, height=3.0)
     ax.plot(deg, omc, color="C0", label="1 − cos α  (the error of cos α ≈ 1)")
     ax.plot(deg, ams, color="C1", label="α − sin α  (the error of sin α ≈ α)")
     ax.set(xlabel="α (deg)", ylabel="error of the approximation",
            title="Fig. 3: cosines and sines of small angles")
-    ax.legend(fontsize=8)
-    ax.figure.tight_layout()
+    ax.legend()
     return ax.figure
 
 

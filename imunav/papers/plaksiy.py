@@ -18,6 +18,7 @@ import numpy as np
 import numpy.typing as npt
 
 from imunav.analysis.metrics import fit_order
+from imunav.core import style
 from imunav.core.rotations import FloatArray, _angle, _exp, quat_conj, quat_mul
 from imunav.core.validation import ImunavError, as_float_array, check_positive
 from imunav.motion.base import BaseMotion
@@ -27,6 +28,13 @@ from imunav.papers.records import judge, record, small
 from imunav.sensors.quadrature import integrate_intervals
 from imunav.strapdown.scan import cumulative_product
 from imunav.symbolic import plaksiy as S
+
+#: The paper, as its text prints it: no year, venue or DOI.
+CITATION = {"authors": "Yu. A. Plaksiy and I. A. Homozkova",
+            "title": "New reference model of rotation for orientation algorithms analysis",
+            "venue": None, "year": None, "doi": None,
+            "affiliation": "National Technical University \"Kharkiv Polytechnic Institute\""}
+
 
 #: Table 1: (α, β) → final drift (rad) at t = 1000 s, Δt = 0.1 s.
 TABLE1 = {
@@ -38,6 +46,10 @@ TABLE1 = {
 UPDATE_FORMS = ("exact", "series4")
 #: Readable names of the update forms (figures and tables).
 FORM_NAMES = {"exact": "exact exponential update", "series4": "fourth-order series update"}
+#: Two-line titles of the coefficient sets (figure panels).
+SET_TITLES = {"miller_33_57": "Miller\nα = 33/80, β = 57/80",
+              "conic_36_54": "conic-optimised\n36/80, 54/80",
+              "new_0_90": "the paper's new set\n0, 90/80"}
 #: Readable names of the coefficient sets.
 SET_NAMES = {"miller_33_57": "Miller (α = 33/80, β = 57/80)",
              "conic_36_54": "conic-optimised (36/80, 54/80)",
@@ -296,8 +308,8 @@ def torque_free_test(motion: FourRotationMotion, duration: float = 1000.0, n: in
     scale = np.linalg.norm(A, axis=0)
     U, sv, Vt = np.linalg.svd(A / scale, full_matrices=False)
     v = Vt[-1] / scale
-    return {"relative_singular": float(sv[-1] / sv[0]), "inertia": (v / np.linalg.norm(v))
-            .tolist()}
+    v = v / np.linalg.norm(v) * np.sign(v[np.argmax(np.abs(v))])   # the sign is arbitrary
+    return {"relative_singular": float(sv[-1] / sv[0]), "inertia": v.tolist()}
 
 
 #: Bounded angle laws for the vibration test: small swings of φ and ϑ, ψ turning steadily
@@ -332,53 +344,83 @@ def vibration_sinusoidal(duration: float = 1000.0, n: int = 200001) -> dict:
 
 def plot_quasi_coordinates(motion: FourRotationMotion, duration: float = 200.0, dt: float = 0.1,
                            fig=None):
-    """Fig. 1: θ*ₙ (rad) on each axis vs time."""
-    import matplotlib.pyplot as plt
-
+    """Fig. 1: θ*ₙ (rad) on each axis vs time, one panel per axis (shared time axis)."""
     t = np.arange(int(round(duration / dt)) + 1) * dt
     q = quasi_coordinates(motion, t)
-    fig = fig or plt.figure(figsize=(10, 6))
-    for i in range(3):
-        ax = fig.add_subplot(3, 1, i + 1)
-        ax.plot(t[1:], q[:, i], lw=0.8)
-        ax.set_ylabel(f"θ*_{i + 1} (rad)")
-    ax.set_xlabel("t (s)")
-    fig.suptitle(f"Fig. 1: quasi-coordinates, k = {motion.k}, Δt = {dt} s")
-    fig.tight_layout()
+    if fig is None:
+        fig, axs = style.figure(3, 1, height=4.6, sharex=True)
+    else:
+        axs = fig.subplots(3, 1, sharex=True)
+    for i, ax in enumerate(axs):
+        ax.plot(t[1:], q[:, i], lw=0.8, color=style.colour(f"axis.{'xyz'[i]}"))
+        ax.set_ylabel(f"θ*{'₁₂₃'[i]} (rad)")
+    axs[-1].set_xlabel("t (s)")
+    fig.suptitle(f"Fig. 1: quasi-coordinates over each Δt = {dt:g} s, "
+                 f"k = ({', '.join(f'{x:g}' for x in motion.k)})")
     return fig
 
 
-def plot_configuration_space(motion: FourRotationMotion, duration: float = 200.0, dt: float = 0.05,
-                             fig=None):
-    """Fig. 2: λ₁(λ₀), λ₂(λ₀), λ₃(λ₀), λ₂(λ₁)."""
-    import matplotlib.pyplot as plt
-
+def plot_configuration_space(motion: FourRotationMotion, duration: float = 200.0,
+                             dt: float = 0.05, fig=None):
+    """Fig. 2: λ₁(λ₀), λ₂(λ₀), λ₃(λ₀), λ₂(λ₁), each on equal axes from −1 to 1."""
     lam = motion.attitude(np.arange(int(round(duration / dt)) + 1) * dt)
-    fig = fig or plt.figure(figsize=(9, 8))
-    for n, (i, j) in enumerate([(0, 1), (0, 2), (0, 3), (1, 2)]):
-        ax = fig.add_subplot(2, 2, n + 1)
-        ax.plot(lam[:, i], lam[:, j], lw=0.4)
-        ax.set(xlabel=f"λ{i}", ylabel=f"λ{j}", aspect="equal")
-    fig.suptitle("Fig. 2: trajectories in configuration space")
-    fig.tight_layout()
+    if fig is None:
+        fig, axs = style.figure(2, 2, width=5.6, height=5.6)
+    else:
+        axs = fig.subplots(2, 2)
+    for ax, (i, j) in zip(axs.flat, [(0, 1), (0, 2), (0, 3), (1, 2)], strict=True):
+        ax.plot(lam[:, i], lam[:, j], lw=0.3, color="#0067A5")
+        ax.set(xlabel=f"λ{'₀₁₂₃'[i]}", ylabel=f"λ{'₀₁₂₃'[j]}", xlim=(-1.05, 1.05),
+               ylim=(-1.05, 1.05), aspect="equal")
+    fig.suptitle(f"Fig. 2: trajectories in configuration space ({duration:g} s)")
     return fig
 
 
 def plot_drift(runs: dict[str, list[DriftRun]], fig=None):
-    """Fig. 3: drift (rad) vs time for each coefficient set and update form."""
-    import matplotlib.pyplot as plt
-
-    fig = fig or plt.figure(figsize=(12, 3.6))
-    for n, (key, rs) in enumerate(runs.items()):
-        ax = fig.add_subplot(1, len(runs), n + 1)
+    """Fig. 3: drift (rad) vs time for each coefficient set, both update forms, with the
+    paper's final value (Table 1) as a marker at 1000 s."""
+    if fig is None:
+        fig, axs = style.figure(1, len(runs), height=3.0, sharey=True)
+    else:
+        axs = fig.subplots(1, len(runs), sharey=True)
+    for ax, (key, rs) in zip(np.atleast_1d(axs), runs.items(), strict=True):
         for r in rs:
-            ax.plot(r.t, r.drift, label=f"{r.form}: {r.final:.3e}")
-        ax.axhline(TABLE1[key][1], color="k", ls=":", lw=1, label=f"paper {TABLE1[key][1]:.3e}")
-        a, b = TABLE1[key][0]
-        ax.set(title=f"α = {a * 80:.0f}/80, β = {b * 80:.0f}/80", xlabel="t (s)",
-               ylabel="drift (rad)")
-        ax.legend(fontsize=7)
-    fig.tight_layout()
+            ax.plot(r.t, 1e3 * r.drift, label=FORM_NAMES[r.form], **style.style(r.form))
+        ax.plot([rs[0].t[-1]], [1e3 * TABLE1[key][1]], "k*", ms=9, label="Table 1")
+        ax.set(title=SET_TITLES[key], xlabel="t (s)")
+    np.atleast_1d(axs)[0].set_ylabel("drift (mrad)")
+    np.atleast_1d(axs)[0].legend(loc="lower right")
+    fig.suptitle("Fig. 3: drift of the orientation, Δt = 0.1 s")
+    return fig
+
+
+def plot_coefficient_lab(alphas, on_line: dict[str, FloatArray], grid_alphas, grid_betas,
+                         grid: FloatArray, optimum: float | None = None, fig=None):
+    """Final drift on the line α + β = 90/80 for each update form (the paper's three sets as
+    stars, the optimum marked), and a map of the final drift over (α, β) with the line."""
+    from matplotlib.colors import LogNorm
+
+    if fig is None:
+        fig, (ax, ax2) = style.figure(1, 2, height=3.2)
+    else:
+        ax, ax2 = fig.subplots(1, 2)
+    for form, d in on_line.items():
+        ax.semilogy(alphas, d, label=FORM_NAMES[form], **style.style(form))
+    pa = [TABLE1[k][0][0] for k in TABLE1]
+    ax.semilogy(pa, [TABLE1[k][1] for k in TABLE1], "k*", ms=8,
+                label="Table 1 (Miller, conic, new)")
+    if optimum is not None:
+        ax.axvline(optimum, color="0.4", ls=":", lw=1, label=f"optimum α = {optimum:.2f}")
+    ax.set(xlabel="α (β = 90/80 − α)", ylabel="final drift at 1000 s (rad)",
+           title="on the line α + β = 90/80")
+    ax.legend(loc="lower left", fontsize=8)
+    im = ax2.pcolormesh(grid_alphas, grid_betas, grid, norm=LogNorm(), shading="auto",
+                        cmap="viridis")
+    ax2.plot(grid_alphas, 90 / 80 - np.asarray(grid_alphas), "w--", lw=1)
+    ax2.plot(pa, [TABLE1[k][0][1] for k in TABLE1], "w*", ms=7)
+    ax2.set_ylim(min(grid_betas), max(grid_betas))
+    fig.colorbar(im, ax=ax2, label="final drift (rad)")
+    ax2.set(xlabel="α", ylabel="β", title="off the line (4th-order series)")
     return fig
 
 
@@ -477,28 +519,28 @@ def reproduce(out) -> list[dict]:
             what = ("the fourth-order series update (the one that matches best)"
                     if form == "series4" else "the exact exponential update")
             recs.append(record(f"plaksiy.table1.{k}.{form}", f"final drift at 1000 s, "
-                               f"α={a_ * 80:.0f}/80, β={b_ * 80:.0f}/80, {form} update", paper,
+                               f"α={a_ * 80:.0f}/80, β={b_ * 80:.0f}/80, {FORM_NAMES[form]}", paper,
                                r.final, "rad", judge(paper, r.final, tol),
                                f"{what} gives {ratio:.3f}× the paper's value; the tolerance is "
                                f"half the 0.93 % gap the paper's ranking rests on",
-                               "series4: the quaternion series truncated at fourth order; "
-                               "exact: [cos(θ/2), sin(θ/2) θ/|θ|]", tolerance=tol))
+                               "fourth-order series: the quaternion series truncated at fourth "
+                               "order; exact: [cos(θ/2), sin(θ/2) θ/|θ|]", tolerance=tol))
     for form, i in (("series4", 1), ("exact", 0)):
         o = table1_ordering({k: r[i] for k, r in runs.items()})
         suffix = "" if form == "series4" else ".exact"
         reversed_ = (o["imunav_conic_over_miller"] > 1) != (o["paper_conic_over_miller"] > 1)
         recs.append(record(f"plaksiy.table1.ordering{suffix}", "final drift, conic set (36/54) "
-                           f"/ Miller set (33/57), {form} update", o["paper_conic_over_miller"],
+                           f"/ Miller set (33/57), {FORM_NAMES[form]}", o["paper_conic_over_miller"],
                            o["imunav_conic_over_miller"], "1",
                            "differs" if reversed_ else "reproduced",
                            "the paper ranks the conic set 0.9 % below Miller's; computed with "
-                           f"the {form} update it comes out "
+                           f"the {FORM_NAMES[form]} it comes out "
                            f"{100 * (o['imunav_conic_over_miller'] - 1):.1f} % above: the "
                            "ranking reverses"))
         best = o["imunav_new_over_miller"] < 1 and o["imunav_new_over_miller"] < \
             o["imunav_conic_over_miller"]
         recs.append(record(f"plaksiy.conclusion.new_set_best{suffix}", "final drift, new set "
-                           f"(0/90) / Miller set (33/57), {form} update",
+                           f"(0/90) / Miller set (33/57), {FORM_NAMES[form]}",
                            o["paper_new_over_miller"], o["imunav_new_over_miller"], "1",
                            "reproduced" if best else "differs",
                            "the new coefficients give the smallest drift of the three, as "
@@ -507,7 +549,8 @@ def reproduce(out) -> list[dict]:
     a_opt, d_opt = optimal_alpha_on_line(m, form="series4")
     a_ex, d_ex = optimal_alpha_on_line(m, form="exact")
     recs.append(record("plaksiy.optimal_alpha_on_line", "α minimising the final drift on "
-                       "α + β = 90/80 (series4 update)", None, a_opt, "1", "no paper value",
+                       "α + β = 90/80 (fourth-order series update)", None, a_opt, "1",
+                       "no paper value",
                        "the paper compares three sets on this line; the minimum lies at "
                        f"α = {a_opt:.2f} ({d_opt:.1e} rad), far outside them",
                        f"drift {d_opt:.3e} rad there; with the exact update α = {a_ex:.3f}, "
@@ -551,31 +594,6 @@ def drift_grid(motion: FourRotationMotion, alphas: npt.ArrayLike, betas: npt.Arr
     inc = sub_increments(motion, duration, dt)
     return np.array([[drift(motion, alpha=a, beta=b, form=form, increments=inc).final
                       for a in np.asarray(alphas, float)] for b in np.asarray(betas, float)])
-
-
-def plot_coefficient_lab(alphas, on_line: dict[str, FloatArray], grid_alphas, grid_betas,
-                         grid: FloatArray, fig=None):
-    """Drift vs α on α + β = 90/80 (each update form) and a map of drift over (α, β)."""
-    import matplotlib.pyplot as plt
-    from matplotlib.colors import LogNorm
-
-    fig = fig or plt.figure(figsize=(12, 4.5))
-    ax = fig.add_subplot(1, 2, 1)
-    for form, d in on_line.items():
-        ax.semilogy(alphas, d, label=form)
-    for key, ((a, _), paper) in TABLE1.items():
-        ax.plot(a, paper, "k*", ms=8)
-        ax.annotate(key, (a, paper), fontsize=7, xytext=(3, 3), textcoords="offset points")
-    ax.set(xlabel="α (β = 90/80 − α)", ylabel="final drift at 1000 s (rad)",
-           title="on the line α + β = 90/80 (★ paper)")
-    ax.legend()
-    ax2 = fig.add_subplot(1, 2, 2)
-    im = ax2.pcolormesh(grid_alphas, grid_betas, grid, norm=LogNorm(), shading="auto")
-    ax2.plot(grid_alphas, 90 / 80 - np.asarray(grid_alphas), "w--", lw=1)
-    fig.colorbar(im, ax=ax2, label="final drift (rad)")
-    ax2.set(xlabel="α", ylabel="β", title="off the line (series4 update)")
-    fig.tight_layout()
-    return fig
 
 
 #: The coverage table of notebook 02: (what the paper says, where it is settled, record id,

@@ -27,6 +27,12 @@ from imunav.motion.analytic import Motion
 from imunav.papers.records import record
 from imunav.sensors.simulate import simulate_imu
 
+#: The document, as its text prints it: no author, year, venue or DOI ("Credit: based on the
+#: Madgwick's quaternion library for Matlab").
+CITATION = {"authors": None, "title": "gyroscope quaternion-integration tutorial (web page)",
+            "venue": None, "year": None, "doi": None}
+
+
 P0 = np.array([1.0, 2.0, 3.0])
 PX0, PY0, PZ0 = np.array([2.0, 2.0, 3.0]), np.array([1.0, 3.0, 3.0]), np.array([1.0, 2.0, 4.0])
 UPDATES = ("first_order", "exact")
