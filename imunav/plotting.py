@@ -216,25 +216,26 @@ def plot_envelope(mc: MonteCarloResult, tolerance: float | None = None, ax=None,
     return ax
 
 
-def plot_verdict(r: dict, cov=None, ax=None, top: int = 6, log: bool = False):
+def plot_verdict(r: dict, cov=None, ax=None, top: int = 5, log: bool = False,
+                 legend: bool = True):
     """The 95th-percentile position envelope of a verdict (either method) against its
     tolerance; with the :class:`~imunav.analysis.covariance.CovarianceResult` ``cov``, also the
-    ``top`` largest terms alone (their 95th percentiles, thin lines in each term's colour: they
-    do not add up — the variances do)."""
+    ``top`` largest terms alone (at most 5: their 95th percentiles, thin lines in each term's
+    colour — they do not add up, the variances do)."""
     import matplotlib.pyplot as plt
 
     ax = ax or plt.figure(figsize=(WIDTH_IN, 3.6), layout="constrained").add_subplot()
     env = r["envelope"]
     t, p95 = np.asarray(env["t"]), np.asarray(env["position_p95_m"])
     ok = r["suitable"]
-    ax.plot(t, p95, color="black", lw=2.2, label="all terms together")
+    ax.plot(t, p95, color="black", lw=4, alpha=0.4, label="all terms together")
     ax.axhline(r["tolerance_m"], **styled("tolerance", lw=1))
     if r["time_p95_exceeds_s"] is not None:
         ax.axvline(r["time_p95_exceeds_s"], color="black", ls=":", lw=1,
-                   label=f"crosses at {r['time_p95_exceeds_s']:.1f} s")
+                   label="crosses the tolerance")
     if cov is not None:
         idx = np.searchsorted(cov.t, t - 1e-9)
-        for term in list(r["error_budget"])[:min(top, 6)]:
+        for term in list(r["error_budget"])[:min(top, 5)]:
             ax.plot(t, cov.position_quantile(0.95, term=term, index=idx), lw=1.2,
                     **styled(term))
     ax.set(xlabel="t (s)", ylabel="position error, 95th percentile (m)",
@@ -243,15 +244,16 @@ def plot_verdict(r: dict, cov=None, ax=None, top: int = 6, log: bool = False):
     if log:
         ax.set_yscale("log")
         ax.set_ylim(bottom=1e-3 * min(r["tolerance_m"], max(p95.max(), 1e-300)))
-    ax.legend(loc="upper left", fontsize=8)
+    if legend:
+        ax.legend(loc="upper left", fontsize=8)
     return ax
 
 
 # ------------------------------------------------------------ Allan deviation
 
 def plot_allan(fits: dict, fig=None):
-    """Allan deviation of each axis (dots) and the fitted model (black), gyro and accelerometer
-    side by side; each identified term as its IEEE 952 asymptote (dashed: N/√τ, the floor B,
+    """Allan deviation of the three axes (the band they span) and the fitted model (black), gyro
+    and accelerometer side by side; each identified term as its IEEE 952 asymptote (dashed: N/√τ, the floor B,
     K√(τ/3)) over the τ range where it dominates (shaded)."""
     import matplotlib.pyplot as plt
 
@@ -262,10 +264,13 @@ def plot_allan(fits: dict, fig=None):
     for n, (triad, fit) in enumerate(fits.items()):
         ax = fig.add_subplot(1, len(fits), n + 1)
         taus = fit["taus"]
-        for j, c in enumerate("xyz"):
-            ax.loglog(taus, fit["adev_axes"][:, j], ".", ms=3, alpha=0.6,
-                      color=colour(f"axis.{c}"), label=f"{c} axis")
-        ax.loglog(taus, fit["model"], "k-", lw=1.5, label="fitted model")
+        a = fit["adev_axes"]
+        ax.loglog(taus, fit["model"], "k-", lw=1.2, label="fitted model")
+        ax.fill_between(taus, a.min(axis=1), a.max(axis=1), color="0.55", alpha=0.45, lw=0,
+                        label="x, y, z axes (their spread)")
+        k = np.unique(np.geomspace(1, len(taus), 24).astype(int) - 1)   # dots, not a line
+        ax.loglog(taus[k], a.mean(axis=1)[k], "o", ms=3, color="0.35", zorder=3,
+                  label="mean of the axes")
         for term, val in fit["terms"].items():
             if val["value"] is None:
                 continue
@@ -276,7 +281,7 @@ def plot_allan(fits: dict, fig=None):
         ax.set(xlabel="τ (s)", ylabel=f"Allan deviation ({unit})",
                title="gyro" if triad == "gyro" else "accelerometer", ylim=(lo / 2, hi * 2))
         ax.grid(True, which="both", lw=0.3, alpha=0.5)
-    fig.axes[-1].legend(fontsize=8, loc="lower left")
+    fig.axes[-1].legend(fontsize=8, loc="upper right")
     return fig
 
 
