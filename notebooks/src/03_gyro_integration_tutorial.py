@@ -236,9 +236,10 @@ ax.legend(loc="upper left")
 plt.show()
 
 # %% [markdown]
-# The drift grows steadily with the time integrated — a bias of a fraction of a degree per
-# second, uncorrected, does it (notebook 07 removes such biases and measures what is left). It
-# is the reason every real system aids the gyro with something absolute.
+# The drift grows steadily with the time integrated, without bound: nothing in the gyro's own
+# signal can tell its errors from a real turn (notebook 07 removes the gyro's bias from a
+# still stretch and measures what is left). It is the reason every real system aids the gyro
+# with something absolute — gravity, a magnetometer, GNSS.
 #
 # ## 5. Explore: the step
 # The widget below (in a live kernel) sets the step, the two rates and the update. A reader of
