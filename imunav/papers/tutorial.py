@@ -61,13 +61,15 @@ class TutorialRun:
 
 def run(dt: float = 0.5, steps: int = 100, rate_x: float = np.pi / 8, rate_y: float = np.pi / 16,
         switch: int = 50, update: str = "first_order", duration: float | None = None) -> TutorialRun:
-    """The tutorial's loop. ``duration`` (s), if given, overrides ``steps`` and scales the
-    switch to the same time (``switch·0.5`` s), for convergence studies at other ``dt``."""
+    """The tutorial's loop. ``duration`` (s), if given, overrides ``steps`` (the loop then runs
+    ``duration/dt`` steps: 99 for 49.5 s at 0.5 s, as the example) and puts the switch at the
+    same time as the example's (``(switch − 1)·0.5`` s), for convergence studies at other
+    ``dt``."""
     dt = check_positive(dt, "dt")
     if update not in UPDATES:
         raise ImunavError(f"update must be one of {UPDATES}, got {update!r}")
     if duration is not None:
-        steps = int(round(duration / dt))
+        steps = int(round(duration / dt)) + 1          # the loop runs steps − 1 steps
         t_switch = (switch - 1) * 0.5
     else:
         t_switch = (switch - 1) * dt

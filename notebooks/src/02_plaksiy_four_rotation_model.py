@@ -159,9 +159,9 @@ verdict("plaksiy.eq5.from_corrected_eq3")
 tf = P.torque_free_test(P.FourRotationMotion())
 tf_rp = P.torque_free_test(P.regular_precession(), duration=20.0)
 print(f"the paper's Fig. 1 motion: relative residual {tf['relative_singular']:.3f}, "
-      f"best inertia (Ixx, Iyy, Izz, Ixy, Ixz, Iyz) ∝ {np.round(tf['inertia'], 3)}")
+      f"best inertia (Ixx, Iyy, Izz, Ixy, Ixz, Iyz) ∝ {np.round(tf['inertia'], 3) + 0.0}")
 print(f"a regular precession:      relative residual {R.small(tf_rp['relative_singular'])}, "
-      f"inertia ∝ {np.round(tf_rp['inertia'], 3)} (a symmetric body)")
+      f"inertia ∝ {np.round(tf_rp['inertia'], 3) + 0.0} (a symmetric body)")
 verdict("plaksiy.claim.joint_dynamic_kinematic_solution")
 
 # %% [markdown]
@@ -255,7 +255,7 @@ verdict("plaksiy.claim.chi_minus_psi_vibration")
 # %%
 vb = P.vibration_check()
 print("secular rates of the closed form (rad/s):", vb["secular_rate_closed_form"])
-print("mean rate of θ, paper's linear laws (rad/s):", np.round(vb["mean_rate_paper"], 5))
+print("mean rate of θ, paper's linear laws (rad/s):", np.round(vb["mean_rate_paper"], 5) + 0.0)
 verdict("plaksiy.claim.chi_minus_psi_vibration.paper_laws")
 
 # %% [markdown]

@@ -106,7 +106,7 @@ Q_fo, Q_ex = tutorial_loop(), tutorial_loop(exact=True)
 res, res_exact = T.run(), T.run(update="exact")
 print("these lines vs imunav.papers.tutorial: first-order",
       R.small(np.abs(Q_fo - res.Q).max()), "| exact", R.small(np.abs(Q_ex - res_exact.Q).max()))
-print("final Q, first-order:", np.round(Q_fo[-1], 6), " exact:", np.round(Q_ex[-1], 6))
+print("final Q, first-order:", np.round(Q_fo[-1], 6) + 0.0, " exact:", np.round(Q_ex[-1], 6) + 0.0)
 print(f"angle between them: {np.degrees(quat_angle(Q_fo[-1], Q_ex[-1])):.3f}°")
 
 # %% [markdown]
