@@ -278,7 +278,7 @@ runs = {k: [P.drift(motion, alpha=a, beta=b, form=f, increments=inc) for f in P.
         for k, ((a, b), _) in P.TABLE1.items()}
 print(f"{'coefficients':34s} {'Table 1':>10s} {'series':>10s} {'ratio':>6s} {'exact':>10s} "
       f"{'ratio':>6s}")
-for k, ((a, b), paper) in P.TABLE1.items():
+for k, (_, paper) in P.TABLE1.items():
     ex, s4 = runs[k]
     print(f"{P.SET_NAMES[k]:34s} {paper:10.3e} {s4.final:10.3e} {s4.final / paper:6.3f} "
           f"{ex.final:10.3e} {ex.final / paper:6.3f}")

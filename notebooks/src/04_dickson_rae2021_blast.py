@@ -51,7 +51,7 @@ from ipywidgets import FloatLogSlider, FloatSlider, interact
 from imunav.core.rotations import quat_angle
 from imunav.papers import dickson_rae2021 as D
 from imunav.papers import records as R
-from imunav.plotting import figure, offline_jshtml, style, use_book_style
+from imunav.plotting import figure, offline_jshtml, use_book_style
 
 use_book_style()
 SEED = 0
@@ -307,7 +307,7 @@ verdict("dickson_rae2021.figs2_4.real_data", "dickson_rae2021.claim.gyros_return
 # %%
 RANGES = (150.0, 250.0, 300.0, 3000.0)
 sweep = {gr: D.scenario(gyro_range_dps=gr) for gr in RANGES}
-for gr, (r, p) in sweep.items():
+for gr, (_, p) in sweep.items():
     print(f"±{gr:4.0f}°/s: {p.gyro_saturated:5d} clipped samples, final orientation error "
           f"{p.final_orientation_error_deg:.3g}°")
 
