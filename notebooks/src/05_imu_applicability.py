@@ -33,8 +33,8 @@
 import time
 
 import matplotlib.pyplot as plt
-from IPython.display import Markdown
 import numpy as np
+from IPython.display import Markdown
 from ipywidgets import Dropdown, FloatLogSlider, GridBox, Layout, VBox, interactive_output
 
 from imunav import (
@@ -51,8 +51,15 @@ from imunav.analysis.assessment import min_sample_rate, verdict_covariance
 from imunav.analysis.covariance import CovarianceResult
 from imunav.io.files import imu_toml
 from imunav.papers.marusenkova2020 import motion_for
-from imunav.plotting import figure, name, plot_allan, plot_envelope, plot_verdict, styled
-from imunav.plotting import use_book_style
+from imunav.plotting import (
+    figure,
+    name,
+    plot_allan,
+    plot_envelope,
+    plot_verdict,
+    styled,
+    use_book_style,
+)
 from imunav.sensors import PRESETS, ImuModel, TriadModel, allan_deviation, apply_triad, fit_allan
 
 use_book_style()
@@ -302,7 +309,7 @@ for ax, bias in zip(axs.flat, (2.0, 20.0, 200.0, 2000.0), strict=True):
     plot_verdict(r_b, cov_b, ax=ax, top=3, log=True, legend=False)
     ax.set_title(f"gyro turn-on bias {bias:g} °/h: {'suitable' if r_b['suitable'] else 'not suitable'}")
     ax.label_outer()
-    handles.update(zip(*reversed(ax.get_legend_handles_labels())))
+    handles.update(zip(*reversed(ax.get_legend_handles_labels()), strict=True))
 fig.legend(list(handles.values()), list(handles), loc="outside lower center", ncols=3)
 plt.show()
 

@@ -287,7 +287,7 @@ plt.show()
 # %%
 meas = {r["algorithm"]: r["order_att"] for r in conv_inc}
 Markdown(
-    f"On this cone the multi-sample algorithms converge faster than documented — "
+    "On this cone the multi-sample algorithms converge faster than documented — "
     + ", ".join(f"{name(a)} {meas[a]:.1f}" for a in multi)
     + f" — and {name('coning2')} at {meas['coning2']:.1f}: their coefficients are designed "
     "for coning, and on a cone the neglected Bortz term "
