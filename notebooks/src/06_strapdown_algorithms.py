@@ -317,8 +317,8 @@ for make in B.BENCHMARKS.values():
                   f"vel {F.fmt_err(r['max_vel'])} m/s  pos {F.fmt_err(r['max_pos'])} m")
 
 # %% [markdown]
-# Against time: coning is an attitude test (left, attitude error), sculling a velocity test
-# (right, velocity error) — its rotation and acceleration oscillate together and rectify into a
+# Against time: coning is an attitude test (top, attitude error), sculling a velocity test
+# (bottom, velocity error) — its rotation and acceleration oscillate together and rectify into a
 # steady specific force that only the sculling term captures.
 
 # %% tags=["hide-input"]
