@@ -31,7 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from imunav.analysis.metrics import nav_errors
+from imunav.analysis.metrics import fit_order, nav_errors
 from imunav.core import style
 from imunav.core.constants import G0
 from imunav.core.kernels import quat_exp as _exp
@@ -899,8 +899,6 @@ def threshold_order(fig: str = "fig1a", rates=(25, 50, 100, 200, 400, 800, 1600,
     """Observation 3's threshold frequency: the classic DCM discrepancy vs rate, its fitted
     order and the smallest slope between neighbouring rates (a threshold would show as a
     slope falling towards 0)."""
-    from imunav.analysis.metrics import fit_order
-
     e = np.array([round_trip(fig, r, "dcm", "dcm")["max"] for r in rates])
     h = 1.0 / np.asarray(rates, float)
     local = np.diff(np.log(e)) / np.diff(np.log(h))

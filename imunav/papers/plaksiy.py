@@ -24,6 +24,7 @@ from imunav.core.kernels import quat_exp as _exp
 from imunav.core.rotations import FloatArray, quat_conj, quat_mul
 from imunav.core.validation import ImunavError, as_float_array, check_positive
 from imunav.motion.base import BaseMotion
+from imunav.motion.laws import T as LAW_T
 from imunav.motion.quaternion_law import PAPER_K as PAPER_K  # the paper's Fig. 1–3 frequencies
 from imunav.motion.quaternion_law import FourRotationMotion
 from imunav.papers.records import judge, record, small
@@ -273,11 +274,9 @@ def angular_acceleration(motion: FourRotationMotion, t: npt.ArrayLike) -> FloatA
     and of the laws); shape ``t.shape + (3,)``."""
     import sympy
 
-    from imunav.motion.laws import T as T_SYM
-
     t = as_float_array(t, "t", ndim=1)
     a, r = motion.angles(t)
-    acc = np.stack([np.broadcast_to(np.asarray(sympy.lambdify(T_SYM, sympy.diff(e, T_SYM, 2),
+    acc = np.stack([np.broadcast_to(np.asarray(sympy.lambdify(LAW_T, sympy.diff(e, LAW_T, 2),
                                                                "numpy")(t), float), t.shape)
                     for e in motion.laws], -1)
     f = S.omega_rate_lambdified()

@@ -186,8 +186,6 @@ def drift_real(windows=(0.5, 1.0, 2.0, 4.0, 8.0, 16.0)) -> dict:
     compared with that orientation (the device's onboard fusion, which does not rely on the
     gyro alone) at the end of windows of growing length: the median angle (deg) per window
     and the fitted growth exponent (error ∝ window^p)."""
-    from imunav.io import realdata as R
-
     rec = R.read_ximu()
     err = R.gyro_vs_device(rec, windows=windows)
     w = np.array(list(err))
