@@ -530,3 +530,23 @@ def test_long_streamed_analysis_shows_progress(monkeypatch, capsys):
     assert "covariance" in capsys.readouterr().err
     C.covariance_summary(STILL, ImuModel.load("tactical"), 50.0, progress=False, chunk=100)
     assert capsys.readouterr().err == ""
+
+
+def test_streamed_summary_on_the_earth_is_the_local_covariance():
+    """On the rotating Earth the streamed analysis propagates the inertial error state step by
+    step (its transition is not unipotent) and keeps the local NED errors' covariance on the
+    grid: the same as the whole history mapped by EarthErrorModel.local."""
+    from imunav.analysis.covariance import covariance_summary, envelope_index
+    from imunav.estimation import EARTH, Trajectory, linearise, propagate
+    from imunav.motion import EarthMotion
+
+    m = EarthMotion(Motion(x="30*sin(0.1*t)", yaw="0.2*t", duration=60.0), (0.7, 0.2, 100.0))
+    model = ImuModel.load("BMI088")
+    traj = Trajectory.of(m, 5.0, 60.0)
+    sources, _ = linearise(model, traj, "increments")
+    full = EARTH.local(traj, sum(propagate(sources, traj, EARTH)))
+    s = covariance_summary(m, model, 5.0, 60.0, tolerance=50.0, level=0.95, chunk=64)
+    idx = envelope_index(traj.t.size)
+    np.testing.assert_allclose(s.total, full[idx], rtol=1e-12, atol=1e-12 * np.abs(full).max())
+    w = norm_cdf(full[:, 6:9, 6:9], 50.0)
+    assert s.within[0] == pytest.approx(w.min(), rel=1e-12)

@@ -17,8 +17,8 @@ from imunav.analysis.covariance import (
     covariance_summary,
     envelope_index,
 )
+from imunav.analysis.metrics import nav_errors
 from imunav.analysis.montecarlo import MonteCarloResult, monte_carlo
-from imunav.core.kernels import quat_angle
 from imunav.core.validation import check_positive
 from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import ImuModel, TriadModel
@@ -61,10 +61,9 @@ def run_errors(motion: BaseMotion, rate: float, duration: float | None = None,
     q0, v0, p0 = motion.states(np.array([0.0])).initial()
     chunks = signal_chunks(motion, rate, duration, output=output, imu=imu)
     pos = att = 0.0
-    for st in navigate_chunks(output, rate, chunks, q0, v0, p0):
-        ref = motion.states(st.t)
-        pos = max(pos, float(np.linalg.norm(st.position - ref.position, axis=-1).max()))
-        att = max(att, float(quat_angle(st.quaternion, ref.quaternion).max()))
+    for st in navigate_chunks(output, rate, chunks, q0, v0, p0, earth=motion.frame):
+        err = nav_errors(st, motion)
+        pos, att = max(pos, float(err.position.max())), max(att, float(err.attitude.max()))
     return pos, att
 
 

@@ -33,7 +33,7 @@ from imunav.analysis.gaussnorm import (
 from imunav.core.constants import G0
 from imunav.core.kernels import FloatArray
 from imunav.core.resources import check_memory
-from imunav.estimation.error_model import LazyTrajectory, Trajectory, linearise
+from imunav.estimation.error_model import LazyTrajectory, Trajectory, error_model, linearise
 from imunav.estimation.propagation import CHUNK, propagate, propagate_chunks
 from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import ImuModel
@@ -643,7 +643,8 @@ def covariance_summary(motion: BaseMotion, model: ImuModel, rate: float,
     tracks = {k: MaxQuantileTracker(p) for k in [*names, None]} if maxima and names else {}
     bar = _progress(n, sources, progress)
     gi = 1                                                   # grid[0] = 0: no error yet
-    for lo, hi, covs in propagate_chunks(sources, traj, chunk=chunk):
+    for lo, hi, covs in propagate_chunks(sources, traj, error_model(traj), chunk=chunk,
+                                         local=True):
         tot = _sum(covs) if covs else np.zeros((hi - lo, 9, 9))
         at = grid[gi:gi + np.searchsorted(grid[gi:], hi, side="right")] - lo - 1
         if at.size:

@@ -7,24 +7,28 @@ trajectory, the sensor error terms as error sources), :mod:`~imunav.estimation.d
 propagation, a piece of trajectory at a time), :mod:`~imunav.estimation.kalman` (prediction and
 the Joseph-form measurement update).
 
-May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``.
+May import: ``imunav.core``, ``imunav.earth``, ``imunav.motion``, ``imunav.sensors``.
 """
 
 from imunav.estimation.discretisation import flat_transition, phi_functions, process_noise, van_loan
 from imunav.estimation.error_model import (
     DP,
     DV,
+    EARTH,
     FLAT,
     NAV,
     PHI,
+    EarthErrorModel,
     ErrorSource,
     FlatErrorModel,
     Trajectory,
+    error_model,
     linearise,
 )
 from imunav.estimation.kalman import Update, predict, update
 from imunav.estimation.propagation import propagate, propagate_chunks
 
-__all__ = ["DP", "DV", "FLAT", "NAV", "PHI", "ErrorSource", "FlatErrorModel", "Trajectory",
+__all__ = ["DP", "DV", "EARTH", "FLAT", "NAV", "PHI", "EarthErrorModel", "ErrorSource",
+           "FlatErrorModel", "Trajectory", "error_model",
            "Update", "flat_transition", "linearise", "phi_functions", "predict",
            "process_noise", "propagate", "propagate_chunks", "update", "van_loan"]

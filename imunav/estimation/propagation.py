@@ -417,7 +417,8 @@ def scan_blocks(P: BlockCovariance, blocks: list[StepBlocks], sub: int = 1) -> F
 
 
 def propagate_chunks(sources: list[ErrorSource], traj, model: FlatErrorModel = FLAT,
-                     chunk: int = CHUNK) -> Iterator[tuple[int, int, list[FloatArray]]]:
+                     chunk: int = CHUNK, local: bool = False
+                     ) -> Iterator[tuple[int, int, list[FloatArray]]]:
     """Propagate every source along ``traj`` a piece at a time.
 
     Parameters
@@ -431,6 +432,9 @@ def propagate_chunks(sources: list[ErrorSource], traj, model: FlatErrorModel = F
         (:func:`step_blocks`).
     chunk : int
         Steps per piece.
+    local : bool
+        Hand out the covariances of the errors a user reads (``model.local``: the local NED
+        errors on the Earth; the same on the flat frame) instead of the error state's.
 
     Yields
     ------
@@ -469,7 +473,7 @@ def propagate_chunks(sources: list[ErrorSource], traj, model: FlatErrorModel = F
                 if scan:
                     P[key].nn = ends[at:at + n].copy()
                 for c, j in enumerate(groups[key]):
-                    out[j] = hist[:, at + c]
+                    out[j] = model.local(piece, hist[:, at + c], 1) if local else hist[:, at + c]
                 at += n
         yield lo, hi, out
 
