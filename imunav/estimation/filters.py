@@ -228,7 +228,7 @@ class AidedSystem:
         h = traj.h if h is None else float(h)
         B = self.sensor_input(traj)
         Phi = self.model.transition(traj, B, self.D, h)
-        N, n = Phi.shape[0], self.n
+        n = self.n
         Qd = np.zeros_like(Phi)
         nz = self._noisy
         if nz.size:

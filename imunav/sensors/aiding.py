@@ -38,6 +38,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from numpy.lib.stride_tricks import sliding_window_view
 
 from imunav.core import units as U
 from imunav.core.constants import DEG, G0
@@ -716,20 +717,13 @@ def shoe_statistic(gyro: FloatArray, accel: FloatArray, *, g: float = G0, window
     """
     n = gyro.shape[0]
     W = max(1, min(int(window), n))
-    kern = np.ones(W) / W
-
-    def mean(x):
-        return np.stack([np.convolve(x[:, j], kern, mode="valid") for j in range(x.shape[1])],
-                        axis=1)
-
-    am = mean(accel)
+    aw = sliding_window_view(np.asarray(accel, float), W, axis=0)     # (m, 3, W)
+    ww = sliding_window_view(np.asarray(gyro, float), W, axis=0)
+    am = aw.mean(axis=2)
     u = am / np.linalg.norm(am, axis=1, keepdims=True)
-    m = n - W + 1
-    # Σ_l |a_l − g u|² = Σ|a_l|² − 2 g u·Σa_l + W g²
-    a2 = np.convolve(np.einsum("ij,ij->i", accel, accel), kern, mode="valid")
-    w2 = np.convolve(np.einsum("ij,ij->i", gyro, gyro), kern, mode="valid")
-    acc_term = a2 - 2 * g * np.einsum("ij,ij->i", u, am) + g * g
-    T = acc_term / sigma_a**2 + w2 / sigma_g**2
+    acc_term = ((aw - g * u[:, :, None]) ** 2).sum(axis=(1, 2)) / W
+    T = acc_term / sigma_a**2 + (ww ** 2).sum(axis=(1, 2)) / W / sigma_g**2
+    m = T.size
     lo = (W - 1) // 2
     out = np.empty(n)
     out[lo:lo + m] = T
