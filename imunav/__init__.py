@@ -63,6 +63,7 @@ from imunav.core.rotations import (
     to_scipy,
 )
 from imunav.core.states import States
+from imunav.core.threads import blas_threads, set_blas_threads
 from imunav.core.validation import ImunavError
 from imunav.io.realdata import read_generic, read_ximu, read_ximu3
 from imunav.motion import BaseMotion, Motion, PoseMotion, WaypointMotion
@@ -89,6 +90,7 @@ __all__ = [
     "States",
     "assess",
     "assess_covariance",
+    "blas_threads",
     "covariance",
     "design",
     "euler_to_quat",
@@ -113,6 +115,7 @@ __all__ = [
     "read_ximu3",
     "round_trip",
     "run_family",
+    "set_blas_threads",
     "simulate_imu",
     "to_scipy",
     "WaypointMotion",

@@ -5,7 +5,9 @@ adds its own errors from its own random stream (``SeedSequence(seed).spawn(runs)
 runs of a chunk are navigated together, vectorised across runs, through the algorithm registry
 (:func:`imunav.strapdown.registry.navigate_batch`; the default algorithm for the signal kind
 unless one is named). Chunks are independent tasks: locally they run in turn with a progress
-bar; with ``scheduler=ADDRESS`` they are sent to a Dask cluster (``imunav[dask]``).
+bar; with ``scheduler=ADDRESS`` they are sent to a Dask cluster (``imunav[dask]``). Each chunk
+runs with one BLAS thread unless the caller chose otherwise (:mod:`imunav.core.threads`; on a
+Dask worker, its own ``IMUNAV_BLAS_THREADS`` or ``set_blas_threads``).
 
 May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``, ``imunav.strapdown``.
 """
@@ -17,9 +19,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from imunav.core.constants import G0
-from imunav.core.kernels import quat_angle
 from imunav.core.resources import check_memory
 from imunav.core.rotations import FloatArray
+from imunav.core.threads import limit_blas
 from imunav.core.validation import ImunavError, check_int, check_positive
 from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import ImuModel, measure
@@ -89,6 +91,7 @@ class MonteCarloTask:
     algorithm: str | None = None
 
 
+@limit_blas
 def _mc_chunk(task: MonteCarloTask, seeds) -> tuple[FloatArray, FloatArray, FloatArray, np.ndarray]:
     """One chunk of runs (module-level and picklable: a Dask task)."""
     G, A, S = [], [], []
@@ -98,14 +101,48 @@ def _mc_chunk(task: MonteCarloTask, seeds) -> tuple[FloatArray, FloatArray, Floa
         G.append(gm)
         A.append(am)
         S.append(int(flags.sum()))
-    G = np.stack(G, axis=1)
-    A = np.stack(A, axis=1)                                   # (N, R, 3)
+    # (N, R, 3) views of run-contiguous stacks: one contiguous copy per run instead of a
+    # strided one (the navigation copies its stencil windows contiguous anyway)
+    G = np.stack(G).transpose(1, 0, 2)
+    A = np.stack(A).transpose(1, 0, 2)
     q, v, p = navigate_batch(task.kind, G, A, task.rate, task.truth_q[0], task.truth_v[0],
                              task.truth_p[0], task.g, algorithm=task.algorithm)
-    pos = np.linalg.norm(p - task.truth_p[:, None], axis=-1).T
-    vel = np.linalg.norm(v - task.truth_v[:, None], axis=-1).T
-    att = quat_angle(q, task.truth_q[:, None]).T
+    pos, vel, att = _run_errors(q, v, p, task.truth_q, task.truth_v, task.truth_p)
     return pos, vel, att, np.array(S)
+
+
+#: Time rows per block of :func:`_run_errors` (its temporaries stay in the cache).
+_ERR_ROWS = 64
+
+
+def _run_errors(q, v, p, truth_q, truth_v, truth_p):
+    """``|Δr|``, ``|Δv|`` and the attitude angle of every run (R, N+1) from states (N+1, R, ·)
+    and the truth (N+1, ·): the arithmetic of ``np.linalg.norm(p − p_true, axis=−1)`` and
+    ``_angle(q, q_true)`` written out per component (the same roundings, bit for bit), a block
+    of rows at a time."""
+    n, R = p.shape[:2]
+    pos, vel, att = (np.empty((R, n)) for _ in range(3))
+    for lo in range(0, n, _ERR_ROWS):
+        hi = min(n, lo + _ERR_ROWS)
+        for out, x, ref in ((pos, p, truth_p), (vel, v, truth_v)):
+            d = x[lo:hi] - ref[lo:hi, None]                         # (rows, R, 3)
+            s = d[..., 0] * d[..., 0]
+            s += d[..., 1] * d[..., 1]
+            s += d[..., 2] * d[..., 2]
+            out[:, lo:hi] = np.sqrt(s).T
+        a, b = q[lo:hi], truth_q[lo:hi, None]                       # d = a* ⊗ b
+        aw, ax, ay, az = a[..., 0], a[..., 1], a[..., 2], a[..., 3]
+        bw, bx, by, bz = b[..., 0], b[..., 1], b[..., 2], b[..., 3]
+        dw = aw * bw + ax * bx + ay * by + az * bz
+        dx = aw * bx - ax * bw - ay * bz + az * by
+        dy = aw * by + ax * bz - ay * bw - az * bx
+        dz = aw * bz - ax * by + ay * bx - az * bw
+        nv = dx * dx
+        nv += dy * dy
+        nv += dz * dz
+        np.sqrt(nv, out=nv)
+        att[:, lo:hi] = (2 * np.arctan2(nv, np.abs(dw))).T
+    return pos, vel, att
 
 
 def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: float | None = None,

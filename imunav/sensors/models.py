@@ -306,10 +306,16 @@ class TriadStream:
         stages = self.by_stage
         n = ideal.shape[0]
         x = ideal / dt if self.kind == "increments" else ideal          # rate units
-        drift = np.zeros((n, 3))
-        for t, st in stages.get("drift", ()):
-            t.add_drift(m, st, self, drift)
-        y = x @ self.matrix.T + self.offset + drift
+        # in place, in the order of y = x Mᵀ + offset + drift + G f + noise (the same roundings);
+        # a run without drift terms adds no zeros (y + 0 is y: no −0 survives "+ offset")
+        y = x @ self.matrix.T
+        y += self.offset
+        drifting = stages.get("drift", ())
+        if drifting:
+            drift = np.zeros((n, 3))
+            for t, st in drifting:
+                t.add_drift(m, st, self, drift)
+            y += drift
         for t, st in stages.get("coupling", ()):
             y = t.couple(m, st, self, y, other)
         for t, st in stages.get("white", ()):
@@ -319,7 +325,7 @@ class TriadStream:
         flags = np.zeros(n, dtype=bool)
         for t, _ in stages.get("saturation", ()):
             y, clipped = t.saturate(m, y)
-            flags = flags | clipped
+            flags |= clipped
         if k > 1:
             nn = n // k
             if self.kind == "increments":
@@ -328,7 +334,7 @@ class TriadStream:
             else:
                 y, flags = y[::k], flags[::k]                      # the output instants
         if self.kind == "increments":
-            y = y * (dt * k)
+            y *= dt * k
         for t, st in stages.get("quantisation", ()):
             y = t.quantise(m, st, self, y)
         return y, flags

@@ -34,6 +34,7 @@ import numpy as np
 import numpy.typing as npt
 
 from imunav.core.rotations import FloatArray
+from imunav.core.threads import limit_blas
 from imunav.core.validation import ImunavError, as_float_array
 
 #: Intervals per Chebyshev block.
@@ -71,6 +72,7 @@ def _rule(n: int, r: int) -> tuple[FloatArray, FloatArray, FloatArray]:
     return x, W, C
 
 
+@limit_blas
 def integrate_consecutive(f, t0: float, h: float, k0: int, k1: int, *, groups: int = 1,
                           block: int = BLOCK) -> FloatArray:
     """``∫ f dt`` over the intervals ``[t0 + k h, t0 + (k+1) h]``, ``k = k0 .. k1−1``.
@@ -100,21 +102,25 @@ def _blocks(f, t0, h, first, r, groups, out, k0):
     mid = t0 + (first + r / 2) * h                          # (nb,)
     todo = np.arange(first.size)                            # blocks not yet converged
     vals = None
+    width = 3 * groups
     for n in DEGREES:
         x, W, C = _rule(n, r)
-        new = np.empty((n + 1, todo.size, 3 * groups))
         if vals is None:
-            new[:] = f(mid[todo][None, :] + (L / 2) * x[:, None])
+            new = np.ascontiguousarray(f(mid[todo][None, :] + (L / 2) * x[:, None]), dtype=float)
         else:                                               # x_{2j} of degree n are the old points
+            new = np.empty((n + 1, todo.size, width))
             new[0::2] = vals
             odd = x[1::2]
             new[1::2] = f(mid[todo][None, :] + (L / 2) * odd[:, None])
         coef = np.tensordot(C, new, axes=(1, 0))            # Chebyshev coefficients (m, nb, 3g)
-        a = np.abs(coef).reshape(n + 1, todo.size, groups, 3).max(axis=-1)   # (n+1, nb, groups)
-        scale = a.max(axis=0)
+        np.abs(coef, out=coef)
+        # the largest |coefficient| of each block and component: over all degrees, over the
+        # last quarter (the tail) and the quarter before it; then over each group's 3 components
         q = n // 4
-        tail = a[n - q:].max(axis=0)
-        before = a[n - 2 * q: n - q].max(axis=0)
+        tail = coef[n - q:].max(axis=0)                     # (nb, 3g)
+        before = coef[n - 2 * q: n - q].max(axis=0)
+        scale = np.maximum(np.maximum(coef[: n - 2 * q].max(axis=0), before), tail)
+        tail, before, scale = (a.reshape(-1, groups, 3).max(axis=-1) for a in (tail, before, scale))
         # converged; or a rounding plateau: a flat envelope (a geometric series this flat could
         # not be below FLOOR at these degrees) — chebfun's standardChop in its simplest form
         ok = (tail <= TOL * scale) | ((tail <= FLOOR * scale) & (tail >= before / 8))
@@ -122,12 +128,12 @@ def _blocks(f, t0, h, first, r, groups, out, k0):
         if ok.any():
             done = todo[ok]
             sel = new if ok.all() else new[:, ok]
-            inc = (L / 2) * np.tensordot(sel, W, axes=(0, 1)).transpose(0, 2, 1)   # (nb, r, 3g)
+            prod = np.tensordot(sel, W, axes=(0, 1)).transpose(0, 2, 1)          # (nb, r, 3g)
             lo = first[done[0]] - k0
             if first[done[-1]] - first[done[0]] == (done.size - 1) * r:         # consecutive
-                out[lo: lo + done.size * r] = inc.reshape(-1, 3 * groups)
+                np.multiply(prod, L / 2, out=out[lo: lo + done.size * r].reshape(-1, r, width))
             else:
-                out[(first[done] - k0)[:, None] + np.arange(r)[None, :]] = inc
+                out[(first[done] - k0)[:, None] + np.arange(r)[None, :]] = (L / 2) * prod
         todo, vals = todo[~ok], new[:, ~ok]
         if not todo.size:
             return

@@ -372,7 +372,8 @@ class WhiteNoise(Term):
 
     def add_white(self, model, state, stream, y: FloatArray) -> FloatArray:
         """``y`` plus this run's white noise (rate units)."""
-        return y + state.normal(0.0, model.noise_density * np.sqrt(stream.rate), y.shape)
+        y += state.normal(0.0, model.noise_density * np.sqrt(stream.rate), y.shape)
+        return y
 
     def linearise(self, model, ctx):
         """White noise of PSD ``(N · aliasing gain)²`` on the output."""
@@ -599,7 +600,8 @@ class GSensitivity(Term):
         if other is None:
             return y
         f = other / stream.dt if stream.kind == "increments" else other
-        return y + f @ state.T
+        y += f @ state.T
+        return y
 
     def linearise(self, model, ctx):
         """9 random constants: ``δω_i = Σ_j G_ij f_j``."""
@@ -625,8 +627,10 @@ class Range(Term):
 
     def saturate(self, model, y: FloatArray) -> tuple[FloatArray, np.ndarray]:
         """``(clipped y, flag per sample)``."""
-        flags = np.any(np.abs(y) > model.range, axis=1)
-        return np.clip(y, -model.range, model.range), flags
+        over = np.abs(y) > model.range
+        flags = over[:, 0] | over[:, 1] | over[:, 2]          # any axis (8× np.any's speed)
+        np.clip(y, -model.range, model.range, out=y)
+        return y, flags
 
     def linearise(self, model, ctx):
         """No linear model: a warning when the motion exceeds the range."""
@@ -654,9 +658,14 @@ class Resolution(Term):
         """Output samples ``y`` (already in output units) rounded to the step."""
         if stream.kind == "increments":
             q = model.resolution * stream.dt * stream.k
-            total = state[0] + np.cumsum(y, axis=0)                  # residual carry: no loss
-            qt = np.round(total / q) * q
-            out = np.diff(qt, axis=0, prepend=state[1][None])
+            total = np.cumsum(y, axis=0)                             # residual carry: no loss
+            total += state[0]
+            qt = total / q
+            np.round(qt, out=qt)
+            qt *= q
+            out = np.empty_like(qt)                                  # np.diff(qt, prepend=…)
+            np.subtract(qt[:1], state[1], out=out[:1])
+            np.subtract(qt[1:], qt[:-1], out=out[1:])
             state[0], state[1] = total[-1], qt[-1]
             return out
         return np.round(y / model.resolution) * model.resolution

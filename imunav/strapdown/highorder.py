@@ -34,6 +34,7 @@ from numpy.lib.stride_tricks import sliding_window_view
 
 from imunav.core.kernels import cross, quat_exp, quat_mul, quat_rotate
 from imunav.core.rotations import FloatArray
+from imunav.core.threads import limit_blas
 from imunav.strapdown.scan import exp_product
 
 _G4 = np.array([0.5 - np.sqrt(3) / 6, 0.5 + np.sqrt(3) / 6])
@@ -198,6 +199,7 @@ def interval_quaternions(fit: LocalFit, order: int, nsub: int) -> FloatArray:
 _POLY_CHUNK = 1 << 15
 
 
+@limit_blas
 def navigate_poly(kind: str, gyro: FloatArray, accel: FloatArray, h: float, q0: FloatArray,
                   v0: FloatArray, p0: FloatArray, g: float, first: int = 0,
                   count: int | None = None, *, m: int, order: int
