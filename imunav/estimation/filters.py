@@ -51,6 +51,7 @@ import numpy.typing as npt
 from imunav.core.kernels import FloatArray, quat_exp, quat_mul, quat_to_dcm
 from imunav.core.rotations import quat_normalize
 from imunav.core.states import States
+from imunav.core.threads import limit_blas
 from imunav.core.validation import ImunavError, as_float_array, check_positive
 from imunav.estimation.discretisation import GAUSS_LEGENDRE
 from imunav.estimation.error_model import (
@@ -529,6 +530,7 @@ def _rates(t0: float, end: float, rate: float) -> FloatArray:
     return t0 + np.arange(1, n + 1) / rate
 
 
+@limit_blas
 def run_filter(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike, p0: npt.ArrayLike,
                aiding: AidingConfig, data: AidingData, *, imu: ImuModel | None = None,
                algorithm: str | None = None, covariance_step: float = 0.1,
