@@ -288,7 +288,7 @@ class GnssFix(Measurement):
         return np.zeros(3) if sl is None else nav.estimates[sl]
 
     def predict(self, nav):
-        """``p + v dt + C l + ĉ`` [, ``v + C (ω × l)``]."""
+        # ``p + v dt + C l + ĉ`` [, ``v + C (ω × l)``].
         C = nav.C
         pos = nav.p + nav.v * nav.dt + C @ self.lever + self._correlated(nav)
         if self.velocity_sigma is None:
@@ -296,8 +296,8 @@ class GnssFix(Measurement):
         return np.concatenate([pos, nav.v + C @ np.cross(nav.omega, self.lever)])
 
     def jacobian(self, nav):
-        """Position rows ``[(C l)×] φ + δp + dt δv − x_c``; velocity rows
-        ``[(C (ω × l))×] φ + δv − C [l×] δω``."""
+        # position rows [(C l)×] φ + δp + dt δv − x_c;
+        # velocity rows [(C (ω × l))×] φ + δv − C [l×] δω
         H = self._H(nav)
         C = nav.C
         H[0:3, PHI] = skew(C @ self.lever)
@@ -313,7 +313,7 @@ class GnssFix(Measurement):
         return H
 
     def noise(self):
-        """White position (and velocity) variances."""
+        # White position (and velocity) variances.
         r = [self.position_sigma ** 2] * 3
         if self.velocity_sigma is not None:
             r += [self.velocity_sigma ** 2] * 3
@@ -341,13 +341,13 @@ class Baro(Measurement):
                                      np.array([bias_drift ** 2]))]
 
     def predict(self, nav):
-        """``−(p_z + v_z dt) + b̂``."""
+        # ``−(p_z + v_z dt) + b̂``.
         sl = self.offsets.get("baro.bias")
         b = 0.0 if sl is None else float(nav.estimates[sl][0])
         return np.array([-(nav.p[2] + nav.v[2] * nav.dt) + b])
 
     def jacobian(self, nav):
-        """``−δp_z − dt δv_z − x_b``."""
+        # ``−δp_z − dt δv_z − x_b``.
         H = self._H(nav)
         H[0, 8], H[0, 5] = -1.0, -nav.dt
         sl = self.offsets.get("baro.bias")
@@ -356,7 +356,7 @@ class Baro(Measurement):
         return H
 
     def noise(self):
-        """``σ²``."""
+        # ``σ²``.
         return np.array([[self.sigma ** 2]])
 
 
@@ -376,17 +376,17 @@ class Heading(Measurement):
         self.sigma = float(sigma)
 
     def predict(self, nav):
-        """``atan2(C₁₀, C₀₀)``."""
+        # ``atan2(C₁₀, C₀₀)``.
         return np.array([float(yaw_of(nav.C))])
 
     def jacobian(self, nav):
-        """The yaw row of :func:`euler_jacobian`."""
+        # The yaw row of :func:`euler_jacobian`.
         H = self._H(nav)
         H[0, PHI] = euler_jacobian(nav.C)[0]
         return H
 
     def noise(self):
-        """``σ²``."""
+        # ``σ²``.
         return np.array([[self.sigma ** 2]])
 
 
@@ -406,11 +406,11 @@ class Nhc(Measurement):
         self.sigma = float(sigma)
 
     def predict(self, nav):
-        """``(Cᵀ v)_{y,z}``."""
+        # ``(Cᵀ v)_{y,z}``.
         return (nav.C.T @ nav.v)[1:3]
 
     def jacobian(self, nav):
-        """Rows y, z of ``−Cᵀ [v×] φ + Cᵀ δv``."""
+        # Rows y, z of ``−Cᵀ [v×] φ + Cᵀ δv``.
         H = self._H(nav)
         CT = nav.C.T
         H[:, PHI] = (-CT @ skew(nav.v))[1:3]
@@ -418,7 +418,7 @@ class Nhc(Measurement):
         return H
 
     def noise(self):
-        """``σ² I₂``."""
+        # ``σ² I₂``.
         return self.sigma ** 2 * np.eye(2)
 
 
@@ -438,16 +438,16 @@ class Zupt(Measurement):
         self.sigma = float(sigma)
 
     def predict(self, nav):
-        """``v``."""
+        # ``v``.
         return np.asarray(nav.v, dtype=float).copy()
 
     def jacobian(self, nav):
-        """``δv``."""
+        # ``δv``.
         H = self._H(nav)
         H[:, DV] = np.eye(3)
         return H
 
     def noise(self):
-        """``σ² I₃``."""
+        # ``σ² I₃``.
         return self.sigma ** 2 * np.eye(3)
 
