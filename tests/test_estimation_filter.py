@@ -13,9 +13,10 @@ from scipy.linalg import block_diag
 from scipy.stats import chi2
 
 from imunav import Motion
-from imunav.core.kernels import quat_conj, quat_exp, quat_log, quat_mul
+from imunav.analysis.aided import filter_monte_carlo
+from imunav.core.kernels import quat_exp, quat_mul
 from imunav.estimation import DP, DV, FLAT, NAV, PHI, Trajectory, linearise, predict, update, van_loan
-from imunav.estimation.filters import AidedSystem, run_filter
+from imunav.estimation.filters import AidedSystem
 from imunav.estimation.measurements import (
     Baro,
     GnssFix,
@@ -27,10 +28,8 @@ from imunav.estimation.measurements import (
 )
 from imunav.estimation.smoother import rts
 from imunav.motion.catalog import figure_eight
-from imunav.sensors.aiding import AidingConfig, simulate_aiding
-from imunav.sensors.models import ImuModel, measure
-from imunav.sensors.signals import ImuSignals
-from imunav.sensors.simulate import simulate_imu
+from imunav.sensors.aiding import AidingConfig
+from imunav.sensors.models import ImuModel
 
 # ----------------------------------------------------------------------------- Jacobians
 
@@ -272,37 +271,14 @@ def drive(duration):
 def monte_carlo(imu, cfg, *, runs, duration, rate=100.0, seed=3, smooth=False,
                 algorithm="coning2", skip=5.0):
     """NEES of position, velocity and attitude at every covariance epoch after ``skip`` s, per
-    run (filter, and smoother), and each run's innovations."""
-    motion = drive(duration)
-    ideal = simulate_imu(motion, rate, duration, output="increments")
-    st0 = motion.states(np.array([0.0]))
-    seeds = np.random.SeedSequence(seed).spawn(runs)
-    out = {"filter": [], "smoother": [], "innovations": [], "sd": [], "sd_s": []}
-    for r in range(runs):
-        gm, am, _ = measure(imu, ideal.gyro, ideal.accel, "increments", rate,
-                            np.random.default_rng(seeds[r]))
-        sig = ImuSignals(ideal.t, gm, am, "increments", rate, ideal.g)
-        data = simulate_aiding(motion, cfg, duration, seed=seed, run=r, imu_rate=rate)
-        res = run_filter(sig, st0.quaternion[0], st0.velocity[0], st0.position[0], cfg, data,
-                         imu=imu, smooth=smooth, algorithm=algorithm)
-        for key, R in (("filter", res),) + ((("smoother", res.smoothed),) if smooth else ()):
-            keep = R.t[R.epochs] >= skip
-            ep, P = R.epochs[keep], R.P_nav[keep]
-            tr = motion.states(R.t[ep])
-            errs = {"position": (R.states.position[ep] - tr.position, DP),
-                    "velocity": (R.states.velocity[ep] - tr.velocity, DV),
-                    "attitude": (-quat_log(quat_mul(R.states.quaternion[ep],
-                                                    quat_conj(tr.quaternion))), PHI)}
-            out[key].append({k: np.einsum("ni,ni->n", e, np.linalg.solve(P[:, sl, sl],
-                                                                          e[..., None])[..., 0])
-                             for k, (e, sl) in errs.items()})
-        out["innovations"].append(res.innovations)
-        out["t"] = res.t[res.epochs][res.t[res.epochs] >= skip]
-        out["sd"].append(res.sd)
-        if smooth:
-            out["sd_s"].append(res.smoothed.sd)
-        out["t_nodes"] = res.t
-    return out
+    run (filter, and smoother), each run's innovations and the first run's σ."""
+    mc = filter_monte_carlo(drive(duration), imu, cfg, rate, duration, runs, seed=seed,
+                            smooth=smooth, algorithm=algorithm, skip=skip)
+    res = mc.results[0]
+    per_run = {name: [{k: v[r] for k, v in d.items()} for r in range(runs)]
+               for name, d in (("filter", mc.filter), ("smoother", mc.smoother))}
+    return {**per_run, "innovations": mc.innovations, "t": mc.t, "t_nodes": res.t,
+            "sd": [res.sd], "sd_s": [res.smoothed.sd] if smooth else []}
 
 
 def assert_consistent(runs_nees, runs, label):
