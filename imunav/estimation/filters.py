@@ -408,7 +408,8 @@ class FilterResult:
     layout : dict
         The error state's blocks (:attr:`AidedSystem.layout`).
     smoothed : FilterResult or None
-        The RTS smoother's result (same fields; its ``innovations`` are the filter's).
+        The RTS smoother's result (same fields; its ``innovations`` and ``estimates`` are the
+        filter's).
     warnings : list of str
     """
 
