@@ -48,12 +48,12 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
-from imunav.core.kernels import FloatArray, quat_exp, quat_mul, quat_to_dcm
+from imunav.core.kernels import FloatArray, quat_exp, quat_mul, quat_to_dcm, skew
 from imunav.core.rotations import quat_normalize
 from imunav.core.states import States
 from imunav.core.threads import limit_blas
 from imunav.core.validation import ImunavError, as_float_array, check_positive
-from imunav.estimation.discretisation import GAUSS_LEGENDRE
+from imunav.estimation.discretisation import GAUSS_LEGENDRE, phi_functions
 from imunav.estimation.error_model import (
     DP,
     DV,
@@ -182,6 +182,7 @@ class AidedSystem:
         self.P0[DV, DV] = init.velocity_sigma ** 2 * np.eye(3)
         self.P0[DP, DP] = init.position_sigma ** 2 * np.eye(3)
         self._noisy = np.nonzero(self.Qc)[0]
+        self._phi: dict[float, tuple] = {}
 
     def state_names(self) -> list[str]:
         """The blocks of the error state, in order.
@@ -239,8 +240,10 @@ class AidedSystem:
             q = self.Qc[nz]
             qs = self.Qc[NAV:]
             x, w = GAUSS_LEGENDRE
+            rows_at = self._flat_rows(traj, B) if self.model is FLAT else None
             for xi, wi in zip((x + 1) / 2 * h, w / 2 * h, strict=True):
-                rows = self.model.transition(traj, B, self.D, xi)[:, :NAV]      # (N, 9, n)
+                rows = (rows_at(xi) if rows_at is not None else
+                        self.model.transition(traj, B, self.D, xi)[:, :NAV])   # (N, 9, n)
                 Pn = rows[:, :, nz]
                 Qd[:, :NAV, :NAV] += wi * (Pn * q) @ np.swapaxes(Pn, 1, 2)
                 if n > NAV:
@@ -249,6 +252,40 @@ class AidedSystem:
                     Qd[:, range(NAV, n), range(NAV, n)] += wi * qs * e * e
             Qd[:, NAV:, :NAV] = np.swapaxes(Qd[:, :NAV, NAV:], 1, 2)
         return Phi, 0.5 * (Qd + np.swapaxes(Qd, 1, 2))
+
+    def _flat_rows(self, traj: Trajectory, B: FloatArray):
+        """``s → Φ(s)[:9]`` of the flat model, its products with ``B`` formed once: the rows of
+        :func:`~imunav.estimation.discretisation.flat_transition` (``[I, 0, 0; F s, I, 0;
+        F s²/2, I s, I]`` and ``Γ = B φ0 + A B φ1 + A² B φ2``), the φ-functions of each ``s``
+        remembered (``tests/test_estimation_filter.py`` checks it against the model's own)."""
+        F = skew(traj.f_n)
+        N = F.shape[0]
+        FB = F @ B[:, 0:3]                                      # A B rows δv, A² B rows δp
+        Bv = B[:, 3:6]
+        I3 = np.eye(3)
+
+        def rows(s):
+            key = float(s)
+            phi = self._phi.get(key)
+            if phi is None:
+                if len(self._phi) > 256:
+                    self._phi.clear()
+                phi = self._phi[key] = phi_functions(self.D, key)
+            p0, p1, p2 = phi
+            out = np.zeros((N, NAV, self.n))
+            out[:, 0:3, 0:3] = I3
+            out[:, 3:6, 0:3] = F * s
+            out[:, 3:6, 3:6] = I3
+            out[:, 6:9, 0:3] = F * (s * s / 2)
+            out[:, 6:9, 3:6] = I3 * s
+            out[:, 6:9, 6:9] = I3
+            G = out[:, :, NAV:]
+            G += B * p0
+            G[:, 3:6] += FB * p1
+            G[:, 6:9] += Bv * p1 + FB * p2
+            return out
+
+        return rows
 
     def predict(self, P: FloatArray, Phi: FloatArray, Qd: FloatArray) -> FloatArray:
         """``Φ P Φᵀ + Q_d`` for one step, using the structure ``Φ = [[F, Γ], [0, diag(E)]]``
