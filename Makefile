@@ -31,24 +31,19 @@ lint: $(STAMP)
 unit: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python -m pytest -q tests
 
-# The stored notebooks re-run under nbval with the inline backend (figures drawn, not compared).
+# The stored notebooks re-run under nbval with the inline backend (figures drawn and checked by
+# the figure check, not compared): all of them, or NB="01 02".
 nbval: $(STAMP)
-	env -u MPLBACKEND $(BIN)/python -m pytest -q --nbval --nbval-current-env notebooks
+	env -u MPLBACKEND $(BIN)/python -m pytest -q --nbval --nbval-current-env \
+	  $(if $(strip $(NB)),$(foreach n,$(NB),$(wildcard notebooks/$(n)*.ipynb)),notebooks)
 
-# Sync every notebooks/src/*.py into its paired notebooks/*.ipynb (jupytext) and re-execute it
-# in place with the inline backend, so outputs and figures are stored.
+# Sync notebooks/src/*.py into the paired notebooks/*.ipynb (jupytext) and execute them in place
+# with the inline backend and the figure check, so outputs and figures are stored: all of them,
+# or NB="00 05" (name prefixes). One line per cell with its time; a stalled kernel is reported
+# (STALL, and counted on the last line), never silently retried. See notebooks/run.py.
+NB ?=
 notebooks: $(STAMP)
-	for f in notebooks/src/*.py; do \
-	  $(BIN)/jupytext --quiet --update --to ipynb -o notebooks/$$(basename $$f .py).ipynb $$f || exit 1; \
-	done
-	for nb in notebooks/[0-9]*.ipynb; do \
-	  for try in 1 2; do \
-	    env -u MPLBACKEND $(BIN)/jupyter nbconvert --to notebook --execute --inplace \
-	      --ExecutePreprocessor.timeout=300 $$nb && break; \
-	    echo "$$nb: execution failed or timed out (try $$try)"; \
-	    test $$try = 2 && exit 1; \
-	  done; \
-	done
+	env -u MPLBACKEND $(BIN)/python notebooks/run.py $(NB)
 
 test: lint unit nbval
 

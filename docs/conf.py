@@ -1,7 +1,11 @@
 """Sphinx configuration of the imunav book (``make book``).
 
 The pages are the stored notebooks (never re-executed: ``nb_execution_mode = "off"``), a
-landing page and an API reference generated from the numpydoc docstrings. ``make book`` copies
+landing page and an API reference generated from the numpydoc docstrings. Code cells that only
+draw carry the cell tag ``hide-input`` and exercise solutions ``hide-cell``: myst-nb folds them
+behind a "Show code" toggle, so a page reads as words, equations and figures. Figures are shown
+at the size stored in their output metadata (``imunav.plotting.use_book_style``), so their text
+stays at its size in points. ``make book`` copies
 ``docs/`` and ``notebooks/*.ipynb`` into ``build/book-src`` and builds it with ``-W``, so a
 missing figure or a broken cross-reference fails the build. Nothing is loaded from the
 internet: MathJax is bundled (sphinx-mathjax-offline) and the ipywidgets CDN script is off.
@@ -28,6 +32,10 @@ extensions = [
 nb_execution_mode = "off"
 nb_ipywidgets_js = {}                 # no CDN script: the widgets' first state is a stored figure
 nb_merge_streams = True
+# Generated Markdown outputs (coverage tables, verdict lines, the numbers under a computation)
+# are rendered as MyST, like the markdown cells: CommonMark would show tables as pipes and
+# leave $math$ raw.
+nb_render_markdown_format = "myst"
 myst_enable_extensions = ["dollarmath", "amsmath"]
 myst_heading_anchors = 3
 nb_mime_priority_overrides = [

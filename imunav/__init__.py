@@ -4,7 +4,9 @@ Glossary (one set of conventions, everywhere in the API)
 --------------------------------------------------------
 Frames
     ``n``: navigation frame, NED: x north, y east, z down; flat, non-rotating; gravity
-    ``g_n = [0, 0, +g]`` with ``g = 9.80665`` m/s² unless overridden.
+    ``g_n = [0, 0, +g]`` with ``g = 9.80665`` m/s² unless overridden. On the WGS-84 Earth
+    (``earth="wgs84"``, :mod:`imunav.earth`): the local NED frame at the current position,
+    positions as latitude, longitude (rad) and height above the ellipsoid (m), normal gravity.
     ``b``: body (sensor) frame: x forward, y right, z down.
 Quaternions
     Hamilton product, scalar first ``q = [w, x, y, z]``, arrays of shape ``(..., 4)``.
@@ -65,8 +67,9 @@ from imunav.core.rotations import (
 from imunav.core.states import States
 from imunav.core.threads import blas_threads, set_blas_threads
 from imunav.core.validation import ImunavError
+from imunav.earth import normal_gravity
 from imunav.io.realdata import read_generic, read_ximu, read_ximu3
-from imunav.motion import BaseMotion, Motion, PoseMotion, WaypointMotion
+from imunav.motion import BaseMotion, EarthMotion, Motion, PoseMotion, WaypointMotion
 from imunav.sensors import PRESETS, ImuModel, ImuSignals, simulate_imu, truth_states
 from imunav.strapdown import ALGORITHMS, DEFAULT_ALGORITHM, NavResult, navigate
 
@@ -78,6 +81,7 @@ __all__ = [
     "ALGORITHMS",
     "BaseMotion",
     "DEFAULT_ALGORITHM",
+    "EarthMotion",
     "G0",
     "ImuModel",
     "ImuSignals",
@@ -100,6 +104,7 @@ __all__ = [
     "monte_carlo",
     "nav_errors",
     "navigate",
+    "normal_gravity",
     "quat_angle",
     "quat_conj",
     "quat_exp",

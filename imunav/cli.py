@@ -27,6 +27,7 @@ from imunav.analysis.design import design, format_design
 from imunav.core.constants import G0
 from imunav.core.resources import check_disk
 from imunav.core.validation import ImunavError, check_positive
+from imunav.earth import check_origin
 from imunav.estimation.filters import SD_COLUMNS, run_filter
 from imunav.io import realdata
 from imunav.io.aiding import AIDING_FILES, check_span, read_aiding, write_aiding
@@ -40,11 +41,13 @@ from imunav.io.files import (
     read_signals,
     save_figure,
     signals_writer,
+    state_columns,
     states_writer,
     write_json,
     write_text,
 )
 from imunav.io.paths import check_outputs
+from imunav.motion.geodetic import EarthMotion
 from imunav.plotting import plot_allan
 from imunav.reproduce import format_table, reproduce_all
 from imunav.sensors.aiding import AidingConfig, simulate_aiding
@@ -132,6 +135,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--aiding-out", metavar="DIR",
                    help="folder for gnss.csv, baro.csv, heading.csv, nhc.csv, zupt.csv "
                         "(created if absent)")
+    _earth_options(s)
 
     names = sorted({n for table in ALGORITHMS.values() for n in table})
     n = sub.add_parser("navigate", help="integrate SIGNALS.csv from the initial state")
@@ -156,6 +160,9 @@ def build_parser() -> argparse.ArgumentParser:
     n.add_argument("--algorithm", choices=names, metavar="NAME",
                    help="one of " + ", ".join(names) + "; default the most accurate for the kind")
     n.add_argument("--g", type=_positive("--g"), metavar="G", help="gravity (m/s²), 9.80665")
+    n.add_argument("--earth", choices=EARTHS, default="flat",
+                   help="navigation frame: flat (non-rotating NED, the default) or wgs84 (the "
+                        "rotating Earth; --initial is then a t,lat,lon,alt,vn,ve,vd,… truth CSV)")
 
     f = sub.add_parser("filter", help="aided navigation: the error-state Kalman filter (and "
                                       "RTS smoother) of SIGNALS.csv with the aiding readings")
@@ -195,6 +202,7 @@ def build_parser() -> argparse.ArgumentParser:
     a.add_argument("--json", metavar="OUT.json")
     a.add_argument("--scheduler", metavar="ADDRESS",
                    help="run the Monte Carlo on a Dask cluster (imunav[dask])")
+    _earth_options(a, vertical=True)
 
     d = sub.add_parser("design", help="the worst IMU that still meets a tolerance on a motion")
     d.add_argument("motion", metavar="MOTION", help=MOTION_HELP)
@@ -204,6 +212,7 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument("--rate", required=True, type=_positive("--rate"), metavar="HZ")
     d.add_argument("--tolerance", required=True, type=_positive("--tolerance"), metavar="M")
     d.add_argument("--json", metavar="OUT.json")
+    _earth_options(d, vertical=True)
 
     al = sub.add_parser("allan", help="fit an IMU model (N, B, K) to a static recording's "
                                       "Allan deviation")
@@ -229,6 +238,61 @@ def build_parser() -> argparse.ArgumentParser:
 
 MOTION_HELP = ("the motion: MOTION.toml (analytic laws), a pose CSV (t,x,y,z,qw,qx,qy,qz, or a "
                "truth CSV) or a waypoints TOML ([[waypoint]] tables)")
+
+
+#: The navigation frames of the command line.
+EARTHS = ("flat", "wgs84")
+
+
+def _origin(text: str) -> tuple[float, float, float]:
+    """``--origin LAT,LON,ALT`` (degrees, degrees, metres) → radians, radians, metres."""
+    parts = text.split(",")
+    try:
+        if len(parts) != 3:
+            raise ValueError
+        lat, lon, alt = (float(x) for x in parts)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"--origin must be LAT,LON,ALT (degrees, degrees, metres above the ellipsoid), got "
+            f"{text!r}") from None
+    try:
+        return check_origin(np.radians(lat), np.radians(lon), alt, "--origin")
+    except ImunavError as exc:                           # argparse names the option itself
+        raise argparse.ArgumentTypeError(str(exc).removeprefix("--origin: ")) from None
+
+
+def _earth_options(p, vertical: bool = False) -> None:
+    p.add_argument("--earth", choices=EARTHS, default="flat",
+                   help="flat (non-rotating NED with constant gravity, the default) or wgs84 (the "
+                        "rotating WGS-84 Earth: Earth rate, transport rate, normal gravity)")
+    p.add_argument("--origin", type=_origin, metavar="LAT,LON,ALT",
+                   help="with --earth wgs84 (required): the Earth-fixed origin of the motion's "
+                        "NED frame, degrees, degrees, metres above the ellipsoid")
+    if vertical:
+        p.add_argument("--vertical", choices=("free", "hold"), default="free",
+                       help="with --earth wgs84: the vertical channel free (unstable, the "
+                            "default) or held at the true height (a perfect height aid)")
+
+
+def _on_earth(args, motion, g_file):
+    """The motion in the frame of ``--earth``: on wgs84 wrapped at ``--origin`` (required), and
+    ``--g`` refused (gravity comes from the model); a motion file's own ``g`` is not used."""
+    if getattr(args, "earth", "flat") == "flat":
+        if getattr(args, "origin", None) is not None:
+            raise ImunavError("--origin applies to --earth wgs84 only")
+        if getattr(args, "vertical", "free") != "free":
+            raise ImunavError("--vertical applies to --earth wgs84 only (the flat frame has no "
+                              "vertical instability)")
+        return motion
+    if getattr(args, "g", None) is not None:
+        raise ImunavError("--g belongs to the flat frame: with --earth wgs84 gravity comes from "
+                          "the normal gravity model")
+    if args.origin is None:
+        raise ImunavError("--earth wgs84 needs --origin LAT,LON,ALT (degrees, degrees, metres)")
+    if g_file is not None:
+        print(f"imunav: warning: the motion file's g = {g_file:g} is not used with --earth wgs84 "
+              "(normal gravity)", file=sys.stderr)
+    return EarthMotion(motion, args.origin)
 
 
 def _smoothing_options(p) -> None:
@@ -262,6 +326,7 @@ def cmd_simulate(args) -> int:
     if args.aiding_out:
         _check_aiding_out(Path(args.aiding_out), aiding, inputs, out)
     motion, duration, g_file = _motion(args)
+    motion = _on_earth(args, motion, g_file)
     g = args.g if args.g is not None else (g_file if g_file is not None else G0)
     n = interval_count(args.rate, duration)
     check_disk(out["--out"], (n + 1) * ROW_BYTES["signals"], "this simulation")
@@ -277,9 +342,9 @@ def cmd_simulate(args) -> int:
             w.write([t, gyro, accel])
             rows += t.size
         if args.truth:
-            with states_writer(out["--truth"]) as tw:
+            with states_writer(out["--truth"], motion.frame) as tw:
                 for st in truth_chunks(motion, args.rate, duration):
-                    tw.write([st.t, st.position, st.velocity, st.quaternion])
+                    tw.write(state_columns(st))
     if clipped[0]:
         print(f"imunav: warning: {clipped[0]} samples clipped at the sensor range",
               file=sys.stderr)
@@ -404,6 +469,12 @@ def cmd_assess(args) -> int:
             if val is not None:
                 raise ImunavError(f"{opt} applies to --method montecarlo only")
     motion, duration, g_file = _motion(args)
+    motion = _on_earth(args, motion, g_file)
+    if motion.frame == "wgs84" and method == "covariance":
+        raise ImunavError("the covariance analysis on the WGS-84 Earth is not wired yet: use "
+                          "--method montecarlo --runs N")
+    if args.vertical == "hold":
+        raise ImunavError("--vertical hold is not wired yet: use --vertical free")
     if method == "covariance":
         r = assess_covariance(motion, model, args.rate, args.tolerance, duration=duration)
     else:
@@ -420,6 +491,9 @@ def cmd_design(args) -> int:
     model, imu_files = _imu(args.imu)
     out = check_outputs({"--json": args.json}, [args.motion, *imu_files])
     motion, duration, g_file = _motion(args)
+    motion = _on_earth(args, motion, g_file)
+    if motion.frame == "wgs84":
+        raise ImunavError("design on the WGS-84 Earth (a covariance analysis) is not wired yet")
     r = design(motion, model, args.rate, args.tolerance, duration=duration)
     print(format_design(r))
     if args.json:
@@ -463,35 +537,56 @@ def cmd_navigate(args) -> int:
         return _navigate_recording(args, out["--out"])
     if not args.initial:
         raise ImunavError("--initial TRUTH.csv is required for imunav signal files")
+    if args.earth == "wgs84" and args.g is not None:
+        raise ImunavError("--g belongs to the flat frame: with --earth wgs84 gravity comes from "
+                          "the normal gravity model")
     f = SignalFile(args.signals, g=args.g)
     _check_algorithm(f.kind, args.algorithm)
     init = read_initial_state(args.initial)
+    _check_initial_frame(args, init)
     if abs(init.t[0] - f.t0) > 1e-6 * f.dt + 1e-12 * abs(f.t0):
         raise ImunavError(f"--initial {args.initial} starts at t = {init.t[0]:.9g} s but the "
                           f"signals start at t = {f.t0:.9g} s")
     check_disk(out["--out"], 1.7 * Path(args.signals).stat().st_size, "this navigation")
     q0, v0, p0 = init.initial()
     rows, algo = 0, resolve(f.kind, args.algorithm).name
-    with states_writer(out["--out"]) as w:
+    with states_writer(out["--out"], args.earth) as w:
         for st in navigate_chunks(f.kind, f.rate, f.chunks(), q0, v0, p0, f.g,
-                                  algorithm=algo, t0=f.t0):
-            w.write([st.t, st.position, st.velocity, st.quaternion])
+                                  algorithm=algo, t0=f.t0, earth=args.earth):
+            w.write(state_columns(st))
             rows += len(st)
     print(f"wrote {rows} navigation rows ({algo}) to {args.out}")
     return 0
 
 
+def _check_initial_frame(args, init) -> None:
+    """The ``--initial`` truth must be in the frame of ``--earth``."""
+    if init.frame != args.earth:
+        want = ("t,lat,lon,alt,vn,ve,vd,qw,qx,qy,qz" if args.earth == "wgs84"
+                else "t,x,y,z,vx,vy,vz,qw,qx,qy,qz")
+        raise ImunavError(f"--initial {args.initial} is a {init.frame} truth but --earth is "
+                          f"{args.earth} (expected the header {want})")
+
+
 def _navigate_recording(args, out: Path) -> int:
     sig = _read_recording(args)
     _check_algorithm(sig.kind, args.algorithm)
+    if args.earth == "wgs84" and not args.initial:
+        raise ImunavError("--earth wgs84 needs --initial TRUTH.csv (t,lat,lon,alt,vn,ve,vd,…): "
+                          "where the recording starts on the Earth")
     if args.initial:
-        q0, v0, p0 = read_initial_state(args.initial).initial()
+        init = read_initial_state(args.initial)
+        _check_initial_frame(args, init)
+        q0, v0, p0 = init.initial()
     else:
         n = max(1, int(args.rest_window * sig.rate))
         q0, v0, p0 = level_attitude(sig.accel[:n], sig.g, tol=0.1), np.zeros(3), np.zeros(3)
-    res = navigate(sig, q0, v0, p0, algorithm=args.algorithm)
-    with states_writer(out) as w:
-        w.write([res.t, res.position, res.velocity, res.quaternion])
+    if args.earth == "wgs84" and args.g is not None:
+        raise ImunavError("--g belongs to the flat frame: with --earth wgs84 gravity comes from "
+                          "the normal gravity model")
+    res = navigate(sig, q0, v0, p0, algorithm=args.algorithm, earth=args.earth)
+    with states_writer(out, res.frame) as w:
+        w.write(state_columns(res))
     print(f"wrote {len(res.t)} navigation rows ({res.algorithm}) to {args.out}")
     return 0
 
@@ -561,7 +656,7 @@ FLAGS = {"imu": "--imu", "smoothing": "--smoothing", "attitude_smoothing": "--at
          "scheduler": "--scheduler", "runs": "--runs", "seed": "--seed", "rate": "--rate",
          "tolerance": "--tolerance", "algorithm": "--algorithm", "initial": "--initial",
          "measurements": "--measurements", "covariance_step": "--covariance-step",
-         "gate": "--gate"}
+         "gate": "--gate", "origin": "--origin", "earth": "--earth", "g": "--g"}
 
 
 def flagged(exc: ImunavError) -> str:

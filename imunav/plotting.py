@@ -1,6 +1,10 @@
-"""Plot functions behind the notebooks and ``imunav reproduce`` (general ones; each paper module
-draws its own figures). Each takes computed results and an optional axes/figure, draws, and
-returns it; nothing here computes what the analysis layer already does.
+"""The plot functions behind the notebooks and ``imunav reproduce`` (general ones; each paper
+module draws its own figures), in the one figure style of :mod:`imunav.core.style` — re-exported
+here, so ``from imunav.plotting import styled, use_book_style, check_figure`` works: one readable
+name, one colour and line style per named thing in every figure, and the figure check.
+
+Each plot function takes computed results and an optional axes/figure, draws, and returns it;
+nothing here computes what the analysis layer already does.
 
 May import: anything in imunav but the papers and the faces; matplotlib (imported lazily).
 """
@@ -11,211 +15,273 @@ import numpy as np
 
 from imunav.analysis.montecarlo import MonteCarloResult
 from imunav.analysis.roundtrip import RoundTrip, round_trip
+from imunav.core.style import (  # noqa: F401 — the style's API, re-exported
+    ALGORITHM_GROUPS,
+    BOOK_RC,
+    DISTINCT,
+    MAX_LEGEND,
+    MAX_WIDTH_IN,
+    MIN_DPI,
+    MIN_FONT_PT,
+    THINGS,
+    WIDTH_IN,
+    FigureCheckError,
+    Thing,
+    algorithm_id,
+    check_figure,
+    colour,
+    figure,
+    install_figure_check,
+    internal_ids_in,
+    name,
+    rate_ticks,
+    series_style,
+    style,
+    styled,
+    units_in,
+    use_book_style,
+)
 from imunav.motion.base import BaseMotion
-
-#: Up to 20 colours no two alike: matplotlib's ten, then ten more of clearly other hues.
-DISTINCT = ("C0", "C1", "C2", "C3", "C4", "C5", "C6", "C7", "C8", "C9", "black", "gold",
-            "lime", "navy", "magenta", "teal", "salmon", "olive", "maroon", "slateblue")
-
-
-def series_style(i: int) -> dict:
-    """Colour and marker for the ``i``-th point series of one axes (colours unique up to 20
-    series, then the marker shape changes). For dense curves use only ``["color"]``."""
-    return {"color": DISTINCT[i % len(DISTINCT)],
-            "marker": ("o", "s", "^", "D")[(i // len(DISTINCT)) % 4]}
-
-
-def rate_ticks(ax, rates) -> None:
-    """Label a log x axis at the sample rates themselves (no overlapping minor labels)."""
-    ax.set_xticks(list(rates), [f"{r:g}" for r in rates])
-    ax.minorticks_off()
-
 
 # ------------------------------------------------------------ round trips
 
+def _floor(x, lo=1e-16):
+    return np.maximum(x, lo)
+
+
 def plot_run(res: RoundTrip, fig=None):
-    """Truth vs restored trajectory (plan and height) and the errors vs time."""
+    """Truth vs navigated trajectory (plan and height) and the position, velocity and attitude
+    error norms vs time, one quantity per panel."""
     import matplotlib.pyplot as plt
 
-    fig = fig or plt.figure(figsize=(11, 7))
+    fig = fig or plt.figure(figsize=(WIDTH_IN, 4.8), layout="constrained")
+    gs = fig.add_gridspec(2, 3)
     t = res.nav.t
     tp = res.motion.position(t)
-    ax1 = fig.add_subplot(2, 2, 1)
-    ax1.plot(tp[:, 1], tp[:, 0], "k-", lw=3, alpha=0.35, label="truth")
-    ax1.plot(res.nav.position[:, 1], res.nav.position[:, 0], "C3--", lw=1.2, label="restored")
+    ax1 = fig.add_subplot(gs[0, :2])
+    ax1.plot(tp[:, 1], tp[:, 0], **styled("truth", lw=3, alpha=0.35))
+    ax1.plot(res.nav.position[:, 1], res.nav.position[:, 0], **styled("estimate", lw=1.2))
     ax1.set(xlabel="east y (m)", ylabel="north x (m)", title="plan view")
     ax1.set_aspect("equal", adjustable="datalim")
-    ax1.legend()
-    ax2 = fig.add_subplot(2, 2, 2)
-    ax2.plot(t, -tp[:, 2], "k-", lw=3, alpha=0.35, label="truth")
-    ax2.plot(t, -res.nav.position[:, 2], "C3--", lw=1.2, label="restored")
+    ax1.legend(loc="upper right")
+    ax2 = fig.add_subplot(gs[0, 2])
+    ax2.plot(t, -tp[:, 2], **styled("truth", lw=3, alpha=0.35))
+    ax2.plot(t, -res.nav.position[:, 2], **styled("estimate", lw=1.2))
     ax2.set(xlabel="t (s)", ylabel="height −z (m)", title="height")
-    ax2.legend()
     e = res.errors
-    ax3 = fig.add_subplot(2, 2, 3)
-    ax3.semilogy(t[1:], np.maximum(e.position[1:], 1e-16), label="position (m)")
-    ax3.semilogy(t[1:], np.maximum(e.velocity[1:], 1e-16), label="velocity (m/s)")
-    ax3.set(xlabel="t (s)", title="error norm")
-    ax3.legend()
-    ax4 = fig.add_subplot(2, 2, 4)
-    ax4.semilogy(t[1:], np.maximum(np.degrees(e.attitude[1:]), 1e-16))
-    ax4.set(xlabel="t (s)", ylabel="deg", title="attitude error angle")
-    fig.suptitle(f"{res.signals.kind} at {res.signals.rate:g} Hz, algorithm {res.nav.algorithm}")
-    fig.tight_layout()
+    for k, (key, unit, scale) in enumerate((("position", "m", 1.0), ("velocity", "m/s", 1.0),
+                                            ("attitude", "deg", 180 / np.pi))):
+        ax = fig.add_subplot(gs[1, k])
+        ax.semilogy(t[1:], _floor(getattr(e, key)[1:] * scale), color=colour("estimate"))
+        ax.set(xlabel="t (s)", ylabel=f"{key} error ({unit})")
+    kind = "rate samples" if res.signals.kind == "rates" else "increments"
+    fig.suptitle(f"{name(algorithm_id(res.signals.kind, res.nav.algorithm))}, {kind} at "
+                 f"{res.signals.rate:g} Hz")
     return fig
 
 
-def plot_error_vs_rate(rows: list[dict], rates=(50, 100, 200, 400), fig=None):
-    """Log–log maximum position and attitude error vs rate for every algorithm."""
+def _merge_identical(ids, series, rtol=0.05):
+    """Group ids whose series agree to ``rtol`` at every point (on a log axis: the same line)."""
+    groups: list[list[str]] = []
+    for i in ids:
+        for g in groups:
+            a, b = np.asarray(series[g[0]], float), np.asarray(series[i], float)
+            if np.allclose(a, b, rtol=rtol, atol=0):
+                g.append(i)
+                break
+        else:
+            groups.append([i])
+    return groups
+
+
+def plot_coinciding(ax, x, series: dict, ids, labels: bool = True, marker: str | None = "o",
+                    lw: float = 1.5, **kw):
+    """Draw ``series[i]`` for each id; where several coincide (to 5 % at every point: one line
+    on a log axis) they are drawn as one striped line — widest first — so that every colour
+    stays visible."""
+    for g in _merge_identical(ids, series):
+        k = len(g)
+        for j, i in enumerate(g):
+            extra = 2.0 * (k - 1 - j)
+            ax.plot(x, series[i], "-", marker=marker, lw=lw + extra, ms=3.5 + extra,
+                    color=colour(i), label=name(i) if labels else "_" + i, **kw)
+
+
+def plot_error_vs_rate(rows: list[dict], rates=(50, 100, 200, 400), fig=None,
+                       floors=(1e-10, 1e-11)):
+    """Maximum position (left) and attitude (right) error vs rate, log–log, one row per group of
+    :data:`ALGORITHM_GROUPS`. Algorithms whose errors coincide are drawn as one striped line;
+    values below ``floors`` (m, deg: rounding) are drawn on the floor (dotted)."""
     import matplotlib.pyplot as plt
 
-    fig = fig or plt.figure(figsize=(13, 4.6))
-    axp = fig.add_subplot(1, 2, 1)
-    axa = fig.add_subplot(1, 2, 2)
-    for i, row in enumerate(rows):
-        lab = f"{row['kind']}/{row['algorithm']}"
-        ls = "-" if row["kind"] == "increments" else "--"
-        op = "—" if row["order_pos"] is None else f"{row['order_pos']:.1f}"
-        oa = "—" if row["order_att"] is None else f"{row['order_att']:.1f}"
-        st = series_style(i)
-        axp.loglog(rates, [row[f"pos_{r}"] for r in rates], ls, ms=4, **st)
-        axa.loglog(rates, [np.degrees(row[f"att_{r}"]) for r in rates], ls, ms=4, **st,
-                   label=f"{lab} (order {op} / {oa})")
-    axp.set(xlabel="sample rate (Hz)", ylabel="max position error (m)")
-    axa.set(xlabel="sample rate (Hz)", ylabel="max attitude error (deg)")
-    for ax in (axp, axa):
-        rate_ticks(ax, rates)
-    axa.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0),
-               title="signals/algorithm (order pos / att)", title_fontsize=7)
-    fig.tight_layout()
+    by_id = {algorithm_id(r["kind"], r["algorithm"]): r for r in rows}
+    groups = [(title, [i for i in ids if i in by_id]) for title, ids in ALGORITHM_GROUPS]
+    groups = [(title, ids) for title, ids in groups if ids]
+    fig = fig or plt.figure(figsize=(MAX_WIDTH_IN, 0.9 + 2.3 * len(groups)), layout="constrained")
+    axs = fig.subplots(len(groups), 2, sharex=True, squeeze=False)
+    for row, (title, ids) in enumerate(groups):
+        for col, (key, what, unit, scale, floor) in enumerate(
+                (("pos", "position", "m", 1.0, floors[0]),
+                 ("att", "attitude", "deg", 180 / np.pi, floors[1]))):
+            ax = axs[row, col]
+            series = {i: [max(by_id[i][f"{key}_{r}"] * scale, floor) for r in rates] for i in ids}
+            plot_coinciding(ax, rates, series, ids, labels=col == 1)
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            ax.axhline(floor, color="0.5", lw=0.8, ls=":")
+            rate_ticks(ax, rates)
+            ax.set(ylabel=f"max {what} error ({unit})")
+            ax.set_title(title if col == 0 else "", loc="left")
+            if row == len(groups) - 1:
+                ax.set_xlabel("sample rate (Hz)")
+        axs[row, 1].legend(loc="center left", bbox_to_anchor=(1.02, 0.5), fontsize=8)
+    fig.suptitle("dotted: the rounding floor (errors below it are drawn on it); "
+                 "lines that coincide are drawn as one striped line", fontsize=8.5)
     return fig
 
 
 # ------------------------------------------------------------ algorithm family
 
+_QUANTITY = {"attitude": ("attitude", "deg", 180 / np.pi), "velocity": ("velocity", "m/s", 1.0),
+             "position": ("position", "m", 1.0)}
+
+
 def plot_error_vs_time(motion: BaseMotion, rate: float, names, duration: float | None = None,
-                       ax=None):
-    """Attitude error (deg, log scale) vs time for ``names`` = [(kind, algorithm), …]."""
+                       ax=None, quantity: str = "attitude"):
+    """Error norm (log scale) vs time for ``names`` = [(kind, algorithm), …] (at most 8);
+    ``quantity`` is ``"attitude"`` (deg), ``"velocity"`` (m/s) or ``"position"`` (m).
+    Algorithms whose errors coincide are drawn as one striped line."""
     import matplotlib.pyplot as plt
 
-    ax = ax or plt.figure(figsize=(10, 4)).add_subplot()
-    for i, (kind, name) in enumerate(names):
-        e = round_trip(motion, rate, kind, name, duration).errors
-        ax.semilogy(e.t[1:], np.maximum(np.degrees(e.attitude[1:]), 1e-16),
-                    color=series_style(i)["color"], label=f"{kind}/{name}")
-    ax.set(xlabel="t (s)", ylabel="attitude error (deg)",
+    key, unit, scale = _QUANTITY[quantity]
+    ax = ax or plt.figure(figsize=(WIDTH_IN, 3.4), layout="constrained").add_subplot()
+    ids, series, t = [], {}, None
+    for kind, alg in names:
+        e = round_trip(motion, rate, kind, alg, duration).errors
+        i = algorithm_id(kind, alg)
+        ids.append(i)
+        series[i], t = _floor(getattr(e, key)[1:] * scale), e.t[1:]
+    plot_coinciding(ax, t, series, ids, marker=None, lw=1.3)
+    ax.set_yscale("log")
+    ax.set(xlabel="t (s)", ylabel=f"{key} error ({unit})",
            title=f"{getattr(motion, 'name', 'motion')} at {rate:g} Hz")
-    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     return ax
 
 
 def plot_convergence(rows: list[dict], ax=None, key: str = "max_att_rad"):
-    """Log–log maximum error vs rate with a dotted reference line of each documented order."""
+    """Log–log maximum error vs rate (at most 8 algorithms), each with a dotted reference line
+    of its documented order; coinciding series are drawn as one striped line."""
     import matplotlib.pyplot as plt
 
-    ax = ax or plt.figure(figsize=(7, 5)).add_subplot()
-    for i, r in enumerate(rows):
-        rates = np.asarray(r["rates"], float)
-        e = np.asarray(r[key])
-        if key == "max_att_rad":
-            e = np.degrees(e)
-        line, = ax.loglog(rates, e, "-", ms=4, **series_style(i),
-                          label=f"{r['kind']}/{r['algorithm']} ({r['order_att']:.1f})")
-        p = r["documented"][0]
-        ax.loglog(rates, e[0] * (rates / rates[0]) ** (-p), ":", color=line.get_color(), lw=1)
-    ax.set(xlabel="sample rate (Hz)", ylabel="max attitude error (deg)",
-           title="convergence (dotted: documented order)")
-    rate_ticks(ax, sorted({float(x) for r in rows for x in r["rates"]}))
-    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    ax = ax or plt.figure(figsize=(WIDTH_IN, 3.6), layout="constrained").add_subplot()
+    scale = 180 / np.pi if key == "max_att_rad" else 1.0
+    ids = [algorithm_id(r["kind"], r["algorithm"]) for r in rows]
+    by = dict(zip(ids, rows, strict=True))
+    series = {i: list(np.asarray(by[i][key]) * scale) for i in ids}
+    x = np.asarray(rows[0]["rates"], float)
+    plot_coinciding(ax, x, series, ids)
+    for line in ax.lines:
+        i = next(k for k in ids if name(k) == line.get_label() or "_" + k == line.get_label())
+        line.set_label(f"{name(i)} ({by[i]['order_att']:.1f})")
+    for i in ids:
+        e, p = np.asarray(series[i]), by[i]["documented"][0]
+        ax.plot(x, e[0] * (x / x[0]) ** (-p), ":", color=colour(i), lw=1)
+    ax.set(xscale="log", yscale="log", xlabel="sample rate (Hz)",
+           ylabel={"max_att_rad": "max attitude error (deg)", "max_vel": "max velocity error (m/s)",
+                   "max_pos": "max position error (m)"}[key])
+    rate_ticks(ax, x)
+    ax.legend(title="measured order (dotted: documented)")
     return ax
 
 
 # ------------------------------------------------------------ Monte Carlo
 
-def plot_envelope(mc: MonteCarloResult, tolerance: float | None = None, ax=None, label=None):
-    """Median, 68 % and 95 % envelopes of the position error vs time."""
+def plot_envelope(mc: MonteCarloResult, tolerance: float | None = None, ax=None, label=None,
+                  thing: str | None = None):
+    """The median, 68th and 95th percentiles of the position error vs time (lines; one colour,
+    that of ``thing`` — the IMU preset, by default ``mc.model`` when it is one)."""
     import matplotlib.pyplot as plt
 
-    ax = ax or plt.figure(figsize=(8, 4)).add_subplot()
+    ax = ax or plt.figure(figsize=(WIDTH_IN, 3.4), layout="constrained").add_subplot()
     env = mc.envelope()
-    lab = label or mc.model
-    ax.fill_between(mc.t, 0, env[95], alpha=0.2, label=f"{lab}: 95 %")
-    ax.fill_between(mc.t, 0, env[68], alpha=0.3, label=f"{lab}: 68 %")
-    ax.plot(mc.t, env[50], lw=1.5, label=f"{lab}: median")
-    if tolerance:
-        ax.axhline(tolerance, color="k", ls="--", lw=1, label="tolerance")
+    lab = label or name(mc.model)
+    thing = thing or (mc.model if mc.model in THINGS else "montecarlo")
+    c = colour(thing)
+    ax.plot(mc.t, env[95], color=c, lw=2, label=f"{lab}: 95th percentile")
+    ax.plot(mc.t, env[68], color=c, lw=1.3, ls="--", label=f"{lab}: 68th percentile")
+    ax.plot(mc.t, env[50], color=c, lw=1, ls=":", label=f"{lab}: median")
+    if tolerance and not any(ln.get_label() == "tolerance" for ln in ax.lines):
+        ax.axhline(tolerance, **styled("tolerance", lw=1))
     ax.set(xlabel="t (s)", ylabel="position error (m)", title=f"{mc.runs} runs at {mc.rate:g} Hz")
-    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     return ax
 
 
-def plot_verdict(r: dict, cov=None, ax=None, top: int = 6, log: bool = False):
+def plot_verdict(r: dict, cov=None, ax=None, top: int = 5, log: bool = False,
+                 legend: bool = True):
     """The 95th-percentile position envelope of a verdict (either method) against its
     tolerance; with the :class:`~imunav.analysis.covariance.CovarianceResult` ``cov``, also the
-    ``top`` largest terms alone (their 95th percentiles, thin lines: they do not add up — the
-    variances do)."""
+    ``top`` largest terms alone (at most 5: their 95th percentiles, thin lines in each term's
+    colour — they do not add up, the variances do)."""
     import matplotlib.pyplot as plt
 
-    ax = ax or plt.figure(figsize=(9, 4)).add_subplot()
+    ax = ax or plt.figure(figsize=(WIDTH_IN, 3.6), layout="constrained").add_subplot()
     env = r["envelope"]
     t, p95 = np.asarray(env["t"]), np.asarray(env["position_p95_m"])
     ok = r["suitable"]
-    ax.fill_between(t, 0, p95, color="C2" if ok else "C3", alpha=0.25,
-                    label=f"all terms, 95 % ({r['method']})")
-    ax.plot(t, p95, color="C2" if ok else "C3", lw=2)
-    ax.axhline(r["tolerance_m"], color="k", ls="--", lw=1, label="tolerance")
+    ax.plot(t, p95, color="black", lw=4, alpha=0.4, label="all terms together")
+    ax.axhline(r["tolerance_m"], **styled("tolerance", lw=1))
     if r["time_p95_exceeds_s"] is not None:
-        ax.axvline(r["time_p95_exceeds_s"], color="C3", ls=":", lw=1,
-                   label=f"crosses at {r['time_p95_exceeds_s']:.1f} s")
+        ax.axvline(r["time_p95_exceeds_s"], color="black", ls=":", lw=1,
+                   label="crosses the tolerance")
     if cov is not None:
         idx = np.searchsorted(cov.t, t - 1e-9)
-        for j, name in enumerate(list(r["error_budget"])[:min(top, 6)]):   # C4…C9: unused above
-            ax.plot(t, cov.position_quantile(0.95, term=name, index=idx), lw=1,
-                    color=f"C{4 + j}", label=name)
-    ax.set(xlabel="t (s)", ylabel="position error, 95th pct (m)",
-           title=f"{r['imu']} on {r['motion']} at {r['rate_hz']:g} Hz: "
-                 f"{'SUITABLE' if ok else 'NOT SUITABLE'}")
+        for term in list(r["error_budget"])[:min(top, 5)]:
+            ax.plot(t, cov.position_quantile(0.95, term=term, index=idx), lw=1.2,
+                    **styled(term))
+    ax.set(xlabel="t (s)", ylabel="position error, 95th percentile (m)",
+           title=f"{name(r['imu'])} on {r['motion']} at {r['rate_hz']:g} Hz: "
+                 f"{'suitable' if ok else 'not suitable'}")
     if log:
         ax.set_yscale("log")
         ax.set_ylim(bottom=1e-3 * min(r["tolerance_m"], max(p95.max(), 1e-300)))
-    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    if legend:
+        ax.legend(loc="upper left", fontsize=8)
     return ax
 
 
 # ------------------------------------------------------------ Allan deviation
 
 def plot_allan(fits: dict, fig=None):
-    """Allan deviation of each axis (dots) and the fitted model (black), gyro and accelerometer
-    side by side; each identified term as its IEEE 952 asymptote (dashed: N/√τ, the floor B,
+    """Allan deviation of the three axes (the band they span) and the fitted model (black), gyro
+    and accelerometer side by side; each identified term as its IEEE 952 asymptote (dashed: N/√τ, the floor B,
     K√(τ/3)) over the τ range where it dominates (shaded)."""
     import matplotlib.pyplot as plt
 
-    fig = fig or plt.figure(figsize=(11, 4.2))
-    colours = {"noise_density": "C0", "bias_instability": "C2", "random_walk": "C3"}
+    fig = fig or plt.figure(figsize=(WIDTH_IN, 3.2), layout="constrained")
     shapes = {"noise_density": lambda v, t: v / np.sqrt(t),
               "bias_instability": lambda v, t: np.full_like(t, v),
               "random_walk": lambda v, t: v * np.sqrt(t / 3)}
     for n, (triad, fit) in enumerate(fits.items()):
         ax = fig.add_subplot(1, len(fits), n + 1)
         taus = fit["taus"]
-        for j, c in enumerate("xyz"):
-            ax.loglog(taus, fit["adev_axes"][:, j], ".", ms=3, alpha=0.6,
-                      color=("0.45", "C1", "C9")[j], label=f"axis {c}")
-        ax.loglog(taus, fit["model"], "k-", lw=1.5, label="fitted model")
-        for name, term in fit["terms"].items():
-            if term["value"] is None:
+        a = fit["adev_axes"]
+        ax.loglog(taus, fit["model"], "k-", lw=1.2, label="fitted model")
+        ax.fill_between(taus, a.min(axis=1), a.max(axis=1), color="0.55", alpha=0.45, lw=0,
+                        label="x, y, z axes (their spread)")
+        k = np.unique(np.geomspace(1, len(taus), 24).astype(int) - 1)   # dots, not a line
+        ax.loglog(taus[k], a.mean(axis=1)[k], "o", ms=3, color="0.35", zorder=3,
+                  label="mean of the axes")
+        for term, val in fit["terms"].items():
+            if val["value"] is None:
                 continue
-            ax.loglog(taus, shapes[name](term["value"], taus), "--", lw=1,
-                      color=colours[name])
-            ax.axvspan(*term["tau_range"], color=colours[name], alpha=0.1,
-                       label=name.replace("_", " "))
+            ax.loglog(taus, shapes[term](val["value"], taus), "--", lw=1, color=colour(term))
+            ax.axvspan(*val["tau_range"], color=colour(term), alpha=0.1, label=name(term))
         unit = "rad/s" if triad == "gyro" else "m/s²"
         lo, hi = fit["adev_axes"].min(), fit["adev_axes"].max()
-        ax.set(xlabel="τ (s)", ylabel=f"Allan deviation ({unit})", title=triad,
-               ylim=(lo / 2, hi * 2))
+        ax.set(xlabel="τ (s)", ylabel=f"Allan deviation ({unit})",
+               title="gyro" if triad == "gyro" else "accelerometer", ylim=(lo / 2, hi * 2))
         ax.grid(True, which="both", lw=0.3, alpha=0.5)
-    fig.axes[-1].legend(fontsize=7, loc="center left", bbox_to_anchor=(1.02, 0.5))
-    fig.tight_layout()
+    fig.axes[-1].legend(fontsize=8, loc="upper right")
     return fig
 
 

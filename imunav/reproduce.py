@@ -27,22 +27,23 @@ def _quickstart(out: Path) -> list[dict]:
     recs = []
     res = round_trip(rate=100.0, output="increments")
     fig = plotting.plot_run(res)
-    fig.savefig(out / "quickstart_round_trip.png", dpi=110)
+    fig.savefig(out / "quickstart_round_trip.png", dpi=150)
     plt.close(fig)
     s = res.errors.summary()
+    alg = plotting.name(f"increments/{res.nav.algorithm}")
     recs.append(record("quickstart.increments_100hz.max_position_error", "max position error, "
-                       f"ideal increments at 100 Hz, {res.nav.algorithm}", None,
+                       f"ideal increments at 100 Hz, {alg}", None,
                        s["max_position"], "m", "no paper value",
                        "imunav's own round trip of ideal increments (rounding level)",
                        "quickstart motion, 20 s"))
     recs.append(record("quickstart.increments_100hz.max_attitude_error", "max attitude error, "
-                       f"ideal increments at 100 Hz, {res.nav.algorithm}", None,
+                       f"ideal increments at 100 Hz, {alg}", None,
                        s["max_attitude"], "rad", "no paper value",
                        "imunav's own round trip of ideal increments (rounding level)",
                        "quickstart motion, 20 s"))
     rows = error_table()
     fig = plotting.plot_error_vs_rate(rows)
-    fig.savefig(out / "quickstart_error_vs_rate.png", dpi=110)
+    fig.savefig(out / "quickstart_error_vs_rate.png", dpi=150)
     plt.close(fig)
     for row in rows:
         if row["order_att"] is None:  # at rounding level at 50–400 Hz on this motion
@@ -68,13 +69,16 @@ REPRODUCTIONS: dict[str, Callable[[Path], list[dict]]] = {
 
 def reproduce_all(out: str | Path = "figures", only: list[str] | None = None) -> list[dict]:
     """Run every registered reproduction, write figures and ``out/reproduction.json``."""
+    import matplotlib
+
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     records: list[dict] = []
-    for name, fn in REPRODUCTIONS.items():
-        if only and name not in only:
-            continue
-        records.extend(fn(out))
+    with matplotlib.rc_context(plotting.BOOK_RC):     # the book's figure style (150 dpi, 8 pt)
+        for name, fn in REPRODUCTIONS.items():
+            if only and name not in only:
+                continue
+            records.extend(fn(out))
     with (out / "reproduction.json").open("w") as fh:
         json.dump(records, fh, indent=1)
         fh.write("\n")
@@ -82,7 +86,8 @@ def reproduce_all(out: str | Path = "figures", only: list[str] | None = None) ->
 
 
 def format_table(records: list[dict]) -> str:
-    """Plain-text table: id, paper, imunav, unit, verdict."""
+    """Plain-text table: id, paper, imunav, unit, verdict (the verdict rule:
+    :mod:`imunav.papers.records`)."""
     def f(x):
         return "null" if x is None else f"{x:.4g}"
 

@@ -21,8 +21,8 @@ import pytest
 
 numpydoc_validate = pytest.importorskip("numpydoc.validate")
 
-PACKAGES = ["imunav", "imunav.core", "imunav.motion", "imunav.sensors", "imunav.strapdown",
-            "imunav.estimation", "imunav.analysis", "imunav.io"]
+PACKAGES = ["imunav", "imunav.core", "imunav.earth", "imunav.motion", "imunav.sensors",
+            "imunav.strapdown", "imunav.estimation", "imunav.analysis", "imunav.io"]
 CHECKS = {"GL08", "SS01", "PR01", "PR02", "RT01", "YD01"}
 
 

@@ -20,6 +20,7 @@ ROOT = Path(__file__).resolve().parents[1] / "imunav"
 #: derivations) stands on the ground floor beside ``core``: it needs nothing of imunav.
 FLOORS = [
     {"imunav.core", "imunav.symbolic"},
+    {"imunav.earth"},                      # WGS-84: constants, gravity, frames (on core)
     {"imunav.motion"},
     {"imunav.sensors"},
     {"imunav.io", "imunav.strapdown"},
@@ -201,8 +202,9 @@ def test_every_module_says_what_it_owns_and_may_import():
 
 def test_the_checker_sees_a_planted_cycle_and_an_upward_import():
     # the test's own machinery, on a graph with a known cycle and a known upward arrow
-    assert _layer("imunav.strapdown.highorder") == 3 and _layer("imunav.io.files") == 3
-    assert _layer("imunav.symbolic.trig") == 0 and _layer("imunav.estimation.kalman") == 4
+    assert _layer("imunav.strapdown.highorder") == 4 and _layer("imunav.io.files") == 4
+    assert _layer("imunav.symbolic.trig") == 0 and _layer("imunav.estimation.kalman") == 5
+    assert _layer("imunav.earth") == 1 and _layer("imunav.motion.geodetic") == 2
     graph = {"a": {"b"}, "b": {"c"}, "c": {"a"}}
     with pytest.raises(AssertionError, match="import cycle: a → b → c → a"):
         saved = dict(GRAPH)

@@ -150,3 +150,46 @@ def test_arccos_keeps_about_ten_digits_and_does_not_matter():
     d = M.arccos_digits()
     assert 8 < d["digits_kept"] < 12                # ≈ log10(Φ²/4ε) at 4e-3 rad steps
     assert d["round_trip_arccos"] < 1e-10 and d["round_trip_atan2"] < 1e-10
+
+
+# ------------------------------------------------------------------ the claims (issue 23)
+
+
+def test_eq5_eq30_and_the_diagonal_numerically():
+    e5 = M.eq5_check()
+    assert e5["to_transpose"] < 1e-15 and e5["to_body_to_inertial"] > 1.0
+    e30 = M.eq30_check()
+    assert e30["corrected"] < 1e-14 and e30["printed"] > 0.5
+    assert M.diagonal_check()["max_difference"] < 1e-11
+
+
+def test_omega_orig_is_never_skew_symmetric_and_its_closed_form():
+    """Ω + Ωᵀ = −2(1 − cos α)(I − nnᵀ)/dt: the symmetric/skew ratio is tan(α/2) (Rodrigues);
+    checked here on one step built independently with scipy."""
+    from scipy.spatial.transform import Rotation
+
+    d = M.omega_skew_defect()
+    assert d["closed_form_error"] < 1e-12 and d["min_ratio"] > 1e-4
+    R = Rotation.from_rotvec([0.01, -0.02, 0.015]).as_matrix()
+    W = (R - np.eye(3)) * 100.0
+    a = np.linalg.norm([0.01, -0.02, 0.015])
+    ratio = np.linalg.norm(W + W.T) / np.linalg.norm(W - W.T)
+    assert ratio == pytest.approx(np.tan(a / 2), rel=1e-9)
+
+
+def test_observations_and_threshold():
+    o = M.observations(scales=(1.0,))
+    assert o["fig2_over_fig1a"] > 5                     # measured 12.6: the trajectory matters
+    assert o["worst_fig"] == "fig1b" and 0.1 < o["worst_relative"] < 0.2   # measured 0.15
+    thr = M.threshold_order(rates=(50, 200, 800, 3200))
+    assert abs(thr["order"] - 1) < 0.02 and thr["min_local_order"] > 0.95   # no threshold
+
+
+def test_omega_difference_orders_the_discrepancy():
+    od = M.omega_difference_vs_discrepancy(rates=(50, 200, 800), scales=(0.5, 2.0))
+    assert od["tau"]["fig1a"] == pytest.approx(1.0) and od["tau"]["fig1b"] == pytest.approx(1.0)
+    assert od["min_tau"] > 0.6
+    # Ω difference is first order in the step: halving the step halves it
+    a = M.omega_difference("fig1a", 100)
+    b = M.omega_difference("fig1a", 200)
+    assert a / b == pytest.approx(2.0, rel=0.02)

@@ -90,16 +90,20 @@ def test_miller_exact_for_linear_rate_coning_term():
     np.testing.assert_allclose(phi - (th[0] + th[1] + th[2]), exact_coning, rtol=1e-12)
 
 
-def test_table1_reproduced_by_series4():
+def test_table1_both_updates_against_the_rule():
+    """Table 1 with the update that matches (fourth-order series) and the exact one, judged by
+    the verdict rule: the tolerance is half the 0.93 % gap the paper's ranking rests on."""
+    tol = P.table1_tolerance()
+    assert tol == pytest.approx((1.616 - 1.601) / 1.616 / 2, rel=1e-12)   # Table 1's values
     m = P.FourRotationMotion()
     inc = P.sub_increments(m, 1000.0, 0.1)
     for (a, b), paper in P.TABLE1.values():
-        # Paper Table 1 values; the fourth-order truncated update reproduces them within 3 %.
         d = P.drift(m, alpha=a, beta=b, form="series4", increments=inc).final
-        assert d == pytest.approx(paper, rel=0.03)
-        # the exact exponential does not (it removes the truncation part of the drift)
+        # measured 1.008, 1.027, 1.018 × Table 1: close, but not within the ranking's 0.46 %
+        assert 1.0 + tol < d / paper < 1.03
+        # the exact exponential removes the truncation's part of the drift: ≈ 0.75–0.79 ×
         e = P.drift(m, alpha=a, beta=b, form="exact", increments=inc).final
-        assert e < 0.8 * paper
+        assert 0.7 < e / paper < 0.8
 
 
 def test_usable_as_motion_everywhere():
@@ -129,7 +133,7 @@ def test_closed_form_quasi_coordinates_match_quadrature():
     assert P.closed_form_check(duration=200.0, n=401) < 1e-11
 
 
-def test_chi_minus_psi_turns_steadily():
+def test_chi_minus_psi_turns_steadily_with_the_papers_linear_laws():
     v = P.vibration_check(duration=200.0)
     assert v["secular_rate_closed_form"][1] == pytest.approx(-1.55, abs=1e-12)   # −k₂, exact
     assert v["mean_rate_paper"][1] == pytest.approx(-1.55, abs=0.05)            # + bounded part
@@ -137,7 +141,56 @@ def test_chi_minus_psi_turns_steadily():
                                                               abs=2e-4)
 
 
-def test_table1_ordering_reversed():
-    o = P.table1_ordering()
-    assert o["paper_conic_over_miller"] < 1 < o["imunav_conic_over_miller"]
-    assert o["imunav_new_over_miller"] < 1 and o["paper_new_over_miller"] < 1
+def test_chi_minus_psi_vibrates_with_bounded_laws():
+    """χ = −ψ makes Λ = q₃(φ) ∘ (a turn by ϑ about an axis ψ moves): within |φ| + |ϑ| of the
+    start whatever ψ does; without the fourth turn the same laws tumble."""
+    v = P.vibration_sinusoidal(duration=200.0, n=40001)
+    assert v["chi_minus_psi"] <= v["bound"] + 1e-12          # the bound 0.1 + 0.1 rad …
+    assert v["chi_minus_psi"] > 0.95 * v["bound"]            # … is reached (measured 0.200)
+    assert v["all_sinusoidal"] <= v["bound"] + 1e-12
+    assert v["chi_zero"] > 3.0                               # χ = 0: turns through π
+    # and the bound against an independent construction (scipy): R_z(φ) R_y(ψ) R_x(ϑ) R_y(−ψ)
+    from scipy.spatial.transform import Rotation
+
+    t = np.linspace(0, 200, 4001)
+    phi, psi, th = 0.1 * np.sin(0.15 * t), 1.55 * t, 0.1 * np.sin(0.35 * t)
+    R = (Rotation.from_rotvec(np.outer(phi, [0, 0, 1])) * Rotation.from_rotvec(np.outer(psi, [0, 1, 0]))
+         * Rotation.from_rotvec(np.outer(th, [1, 0, 0])) * Rotation.from_rotvec(np.outer(-psi, [0, 1, 0])))
+    m = P.FourRotationMotion(**P.VIBRATION_LAWS, duration=200.0)
+    np.testing.assert_allclose(np.abs(np.sum(m.attitude(t) * R.as_quat(scalar_first=True), 1)),
+                               1.0, atol=1e-13)
+    assert R.magnitude().max() <= 0.2 + 1e-12
+
+
+def test_no_inertia_makes_the_paper_motion_torque_free():
+    # a torque-free regular precession passes the test (an inertia exists: I₂/I₁ ≈ 0.06) …
+    rp = P.torque_free_test(P.regular_precession(), duration=20.0, n=801)
+    assert rp["relative_singular"] < 1e-12
+    i1, i2, i3 = rp["inertia"][:3]
+    assert i1 == pytest.approx(i3, rel=1e-9) and 0 < i2 / i1 < 1
+    # … the paper's Fig. 1 motion does not (measured 0.27)
+    assert P.torque_free_test(P.FourRotationMotion(), n=801)["relative_singular"] > 0.1
+
+
+def test_angular_acceleration_is_the_derivative_of_eq5(rng):
+    m = P.FourRotationMotion(phi="0.2*t + 0.1*sin(t)", psi="1.3*t", vartheta="0.4*cos(0.5*t)",
+                             chi="-1.3*t")
+    t = rng.uniform(1, 50, 20)
+    h = 1e-4
+    fd = (m.angular_rate(t + h) - m.angular_rate(t - h)) / (2 * h)
+    np.testing.assert_allclose(P.angular_acceleration(m, t), fd, atol=1e-7)
+
+
+def test_eq5_numerically_from_the_corrected_eq3():
+    assert P.eq5_check(n=2001) < 1e-12
+
+
+def test_table1_ordering_reversed_under_both_updates():
+    m = P.FourRotationMotion()
+    inc = P.sub_increments(m, 1000.0, 0.1)
+    for form in P.UPDATE_FORMS:
+        runs = {k: P.drift(m, alpha=a, beta=b, form=form, increments=inc)
+                for k, ((a, b), _) in P.TABLE1.items()}
+        o = P.table1_ordering(runs)
+        assert o["paper_conic_over_miller"] < 1 < o["imunav_conic_over_miller"], form
+        assert o["imunav_new_over_miller"] < 1 and o["paper_new_over_miller"] < 1, form

@@ -26,3 +26,20 @@ def test_distinct_colours_are_distinct():
 
     rgb = [to_rgb(c) for c in DISTINCT]
     assert len(set(rgb)) == len(DISTINCT) == 20
+
+
+def test_book_figures_are_shown_at_their_size_in_inches():
+    """use_book_style's PNG: stored at the figure's dpi (150), with a display size of 96 CSS px
+    per inch in its metadata, so 8 pt text stays 8 pt in JupyterLab and the book."""
+    import struct
+
+    from imunav.core.style import BOOK_RC, _png_with_size
+
+    with matplotlib.rc_context(BOOK_RC):
+        fig, ax = plt.subplots(figsize=(6.0, 3.0))
+        ax.plot([0, 1], [0, 1])
+        data, md = _png_with_size(fig)
+        plt.close(fig)
+    w, h = struct.unpack(">II", data[16:24])
+    assert fig.dpi == 150 and 4.0 * 150 < w <= 6.0 * 150      # 150 dpi; the tight bbox of 6 in
+    assert md == {"width": round(w * 96 / 150), "height": round(h * 96 / 150)}

@@ -145,3 +145,45 @@ def test_large_shift_degrades_the_correction():
     rows = D.large_shift((0.1, 3.0))
     assert rows[1]["ramp_position_error_m"] > 3 * rows[0]["ramp_position_error_m"]
     assert rows[1]["ramp_position_error_m"] < 0.1 * rows[1]["uncorrected_position_error_m"]
+
+
+# ------------------------------------------------------------------ the claims (issue 23)
+
+
+def test_ocr_signs_restored_make_the_equations_right():
+    c = D.ocr_sign_check(n=200)
+    assert c["eq8"] < 1e-14 and c["eq9"] < 1e-14 and c["product"] < 1e-15
+    assert c["angles"] < 1e-12
+    assert c["as_ocr_orthogonality"] > 1.0        # read with '+', not a rotation at all
+
+
+def test_free_fall_breaks_the_at_rest_zeroing():
+    f = D.free_fall_zeroing()
+    assert f["reading_in_window_g"] < 0.1          # free fall: only the 0.062 g offset
+    assert f["fall_velocity_at_blast"] == pytest.approx(9.80665 * 0.11, rel=1e-12)
+    # the at-rest rule misses the fall's velocity: the residual velocity shows it
+    assert f["at_rest"]["residual_velocity"] == pytest.approx(f["fall_velocity_at_blast"],
+                                                              rel=0.15)
+    assert f["knows_fall"]["position_error_m"] < 0.3 < 2.0 < f["at_rest"]["position_error_m"]
+
+
+def test_free_fall_motion_reads_zero_specific_force():
+    from imunav import simulate_imu
+
+    m = D.blast_motion(fall_from=-0.01)
+    sig = simulate_imu(m, 1000.0, 0.08)
+    np.testing.assert_allclose(sig.accel, 0.0, atol=1e-6)          # free fall before the blast
+    np.testing.assert_allclose(m.velocity([0.05])[0], [0, 0, 9.80665 * 0.06], atol=1e-9)
+
+
+def test_early_time_data_are_accurate():
+    e = D.early_time_accuracy(after=(0.025, 0.05))
+    r25, r50, end = e["rows"]
+    assert r25["relative"] < 0.01 and r50["relative"] < 0.05    # measured 0.35 %, 2.5 %
+    assert end["relative"] > 5                                    # measured 15.6× at rest
+
+
+def test_real_gyro_alone_drifts():
+    d = T.drift_real(windows=(0.5, 4.0, 16.0))
+    e = d["median_error_deg"]
+    assert e[0] < e[1] < e[2] and e[2] > 10 * e[0]                # measured 2.4° → 35°

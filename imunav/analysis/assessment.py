@@ -36,7 +36,7 @@ def sampling_error(motion: BaseMotion, rate: float, duration: float,
     """Maximum position error (m) of an ideal sensor at ``rate`` with the default algorithm:
     what sampling alone costs on this motion."""
     sig = simulate_imu(motion, rate, duration, output=output)
-    nav = navigate(sig, *initial_state(motion, sig))
+    nav = navigate(sig, *initial_state(motion, sig), earth=motion.frame)
     return float(nav_errors(nav, motion).position.max())
 
 

@@ -9,7 +9,8 @@ bar; with ``scheduler=ADDRESS`` they are sent to a Dask cluster (``imunav[dask]`
 runs with one BLAS thread unless the caller chose otherwise (:mod:`imunav.core.threads`; on a
 Dask worker, its own ``IMUNAV_BLAS_THREADS`` or ``set_blas_threads``).
 
-May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``, ``imunav.strapdown``.
+May import: ``imunav.core``, ``imunav.earth``, ``imunav.motion``, ``imunav.sensors``,
+``imunav.strapdown``.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from imunav.core.resources import check_memory
 from imunav.core.rotations import FloatArray
 from imunav.core.threads import limit_blas
 from imunav.core.validation import ImunavError, check_int, check_positive
+from imunav.earth import ned_difference
 from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import ImuModel, measure
 from imunav.sensors.simulate import interval_count, simulate_imu
@@ -75,6 +77,9 @@ class MonteCarloTask:
         first rows are every run's initial state.
     algorithm : str or None
         The strapdown algorithm (None: the registry's default).
+    earth : {"flat", "wgs84"}
+        The navigation frame (the motion's): on the Earth positions are ``[lat, lon, h]`` and
+        the position error is the distance in metres.
     """
 
     gyro: FloatArray
@@ -89,6 +94,7 @@ class MonteCarloTask:
     truth_v: FloatArray
     truth_p: FloatArray
     algorithm: str | None = None
+    earth: str = "flat"
 
 
 @limit_blas
@@ -106,8 +112,12 @@ def _mc_chunk(task: MonteCarloTask, seeds) -> tuple[FloatArray, FloatArray, Floa
     G = np.stack(G).transpose(1, 0, 2)
     A = np.stack(A).transpose(1, 0, 2)
     q, v, p = navigate_batch(task.kind, G, A, task.rate, task.truth_q[0], task.truth_v[0],
-                             task.truth_p[0], task.g, algorithm=task.algorithm)
-    pos, vel, att = _run_errors(q, v, p, task.truth_q, task.truth_v, task.truth_p)
+                             task.truth_p[0], task.g, algorithm=task.algorithm, earth=task.earth)
+    truth_p = task.truth_p
+    if task.earth == "wgs84":            # [lat, lon, h] → metres from the truth, in local NED
+        p = ned_difference(p, np.broadcast_to(truth_p[:, None], p.shape))
+        truth_p = np.zeros_like(truth_p)
+    pos, vel, att = _run_errors(q, v, p, task.truth_q, task.truth_v, truth_p)
     return pos, vel, att, np.array(S)
 
 
@@ -172,7 +182,7 @@ def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: floa
     seeds = np.random.SeedSequence(seed).spawn(runs)
     parts = [seeds[i:i + chunk] for i in range(0, runs, chunk)]
     task = MonteCarloTask(sim.gyro, sim.accel, output, rate * k, k, model, rate, g, truth_q,
-                          truth_v, truth_p, algorithm)
+                          truth_v, truth_p, algorithm, motion.frame)
     if scheduler:
         try:
             from dask.distributed import Client

@@ -16,6 +16,9 @@ import numpy as np
 from imunav.core.rotations import FloatArray, quat_to_euler
 from imunav.core.validation import ImunavError
 
+#: The navigation frames: flat, non-rotating NED, or local NED on the rotating WGS-84 Earth.
+FRAMES = ("flat", "wgs84")
+
 
 @dataclass
 class States:
@@ -26,13 +29,19 @@ class States:
     t : ndarray, shape (N,)
         Times (s).
     position : ndarray, shape (N, 3)
-        ``r_n`` (m), NED.
+        ``r_n`` (m), NED — or, on the WGS-84 Earth (``frame == "wgs84"``), latitude,
+        longitude (rad) and height above the ellipsoid (m).
     velocity : ndarray, shape (N, 3)
-        ``v_n`` (m/s), NED.
+        ``v_n`` (m/s), NED (on the Earth: relative to the Earth, in the local NED frame at
+        the current position).
     quaternion : ndarray, shape (N, 4)
-        ``q_nb``, scalar first.
+        ``q_nb``, scalar first (on the Earth: relative to the local NED frame at the current
+        position).
     algorithm : str, optional
         For navigation results, the strapdown algorithm that produced them; None for truth.
+    frame : {"flat", "wgs84"}
+        The navigation frame: the flat, non-rotating NED frame, or local NED on the rotating
+        WGS-84 Earth (:mod:`imunav.earth`).
     """
 
     t: FloatArray
@@ -40,8 +49,11 @@ class States:
     velocity: FloatArray
     quaternion: FloatArray
     algorithm: str | None = None
+    frame: str = "flat"
 
     def __post_init__(self):
+        if self.frame not in FRAMES:
+            raise ImunavError(f"frame must be one of {FRAMES}, got {self.frame!r}")
         n = np.shape(self.t)[0] if np.ndim(self.t) else None
         for name, last in (("position", 3), ("velocity", 3), ("quaternion", 4)):
             shape = np.shape(getattr(self, name))

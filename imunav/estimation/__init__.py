@@ -9,19 +9,23 @@ the Joseph-form measurement update), :mod:`~imunav.estimation.measurements` (one
 aiding measurement), :mod:`~imunav.estimation.filters` (the aided error-state filter) and
 :mod:`~imunav.estimation.smoother` (the RTS smoother).
 
-May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``, ``imunav.strapdown``.
+May import: ``imunav.core``, ``imunav.earth``, ``imunav.motion``, ``imunav.sensors``,
+``imunav.strapdown``.
 """
 
 from imunav.estimation.discretisation import flat_transition, phi_functions, process_noise, van_loan
 from imunav.estimation.error_model import (
     DP,
     DV,
+    EARTH,
     FLAT,
     NAV,
     PHI,
+    EarthErrorModel,
     ErrorSource,
     FlatErrorModel,
     Trajectory,
+    error_model,
     linearise,
 )
 from imunav.estimation.filters import (
@@ -37,9 +41,9 @@ from imunav.estimation.measurements import Baro, GnssFix, Heading, Measurement, 
 from imunav.estimation.propagation import propagate, propagate_chunks
 from imunav.estimation.smoother import rts, rts_step
 
-__all__ = ["DP", "DV", "FLAT", "NAV", "PHI", "SD_COLUMNS", "AidedSystem", "Baro", "ErrorSource",
-           "FilterResult", "FlatErrorModel", "GnssFix", "Heading", "Innovations", "Measurement",
-           "NavPoint", "Nhc", "Trajectory", "Update", "Zupt", "build_measurements",
-           "flat_transition", "linearise", "phi_functions", "predict", "process_noise",
-           "propagate", "propagate_chunks", "rts", "rts_step", "run_filter", "update",
-           "van_loan"]
+__all__ = ["DP", "DV", "EARTH", "FLAT", "NAV", "PHI", "SD_COLUMNS", "AidedSystem", "Baro",
+           "EarthErrorModel", "ErrorSource", "FilterResult", "FlatErrorModel", "GnssFix",
+           "Heading", "Innovations", "Measurement", "NavPoint", "Nhc", "Trajectory", "Update",
+           "Zupt", "build_measurements", "error_model", "flat_transition", "linearise",
+           "phi_functions", "predict", "process_noise", "propagate", "propagate_chunks", "rts",
+           "rts_step", "run_filter", "update", "van_loan"]

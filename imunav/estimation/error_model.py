@@ -16,17 +16,39 @@ noise; here that becomes an :class:`ErrorSource`: the system
     d/dt [e; x] = [[A(t), B(t)], [0, diag(D)]] [e; x] + G(t) w,      B = [−C M; 0; 0] (gyro)
                                                                        or [0; C M; 0] (accel)
 
-The frame enters only through the navigation block ``A(t)`` (:meth:`FlatErrorModel.nav_matrix`)
-and the exact discretisation of a step (:meth:`FlatErrorModel.discretise`); the model of the
-rotating Earth (Earth rate, transport rate, the Schuler feedback through gravity) is another
-class with the same methods, used by the same propagation and filter.
+The frame enters only through the navigation block ``A(t)`` (:meth:`FlatErrorModel.nav_matrix`),
+the exact discretisation of a step (:meth:`FlatErrorModel.discretise`) and the map of the error
+state onto the errors a user reads (:meth:`FlatErrorModel.local`: the identity here).
 
-May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``,
+**On the rotating Earth** (:class:`EarthErrorModel`, ``Trajectory.of`` an
+:class:`~imunav.motion.geodetic.EarthMotion`) the error state is that of the navigation's own
+frame, the inertial frame ``i`` that coincides with ECEF at ``t = 0``
+(:mod:`imunav.strapdown.earth`): φ, δv, δr in ``i``, ``Ĉ_ib = (I − [φ×]) C_ib``, and
+
+    φ̇ = −C_ib δω,    δv̇ = [f_i×] φ + Γ δr + C_ib δf,    δṙ = δv,
+
+with ``f_i = C_ib f^b`` and ``Γ = ∂G/∂r`` the gradient of the gravitation
+(:func:`imunav.earth.gravitation_gradient`: +2g/R vertically, −g/R horizontally — the Schuler
+loop and the unstable vertical channel). The Earth rate and the transport rate are not lost:
+they are in ``C_ib`` and ``f_i``, which turn with the Earth and the vehicle, and in the exact
+map onto the errors in the local NED frame at the true position (:meth:`EarthErrorModel.local`),
+
+    φ_n = C_ni φ + K C_ni δr,   δv_n = C_ni δv − C_ni [Ω×] δr + [v_n×] K C_ni δr,   δp_n = C_ni δr,
+
+``K`` the curvature matrix (:func:`imunav.earth.curvature_matrix`; the frame at the estimated
+position is turned by ``K δp``) and Ω the Earth rate — so the local-level error equations of
+the textbooks (Earth-rate coupling, the Coriolis terms, the Foucault turn of the Schuler
+oscillation) follow from these (``tests/test_estimation_earth.py`` checks them against the
+closed forms and Monte Carlo of the full nonlinear chain). An aided filter on the Earth uses the
+same state: a measurement of ECEF position, say, has ``H = C_ei [0, 0, I]``.
+
+May import: ``imunav.core``, ``imunav.earth``, ``imunav.motion``, ``imunav.sensors``,
 ``imunav.estimation.discretisation``.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -34,14 +56,21 @@ import numpy as np
 from imunav.core.constants import G0
 from imunav.core.kernels import FloatArray, quat_to_dcm, skew
 from imunav.core.validation import check_gravity, check_positive
+from imunav.earth import (
+    OMEGA_E,
+    curvature_matrix,
+    dcm_ecef_to_inertial,
+    dcm_ned_to_ecef,
+    gravitation_gradient,
+)
 from imunav.estimation.discretisation import flat_transition, process_noise, van_loan
 from imunav.motion.base import BaseMotion
 from imunav.sensors.models import ImuModel
 from imunav.sensors.simulate import interval_count
 from imunav.sensors.terms import TERMS, LinearisationContext, SensorErrorStates
 
-__all__ = ["DP", "DV", "NAV", "PHI", "ErrorSource", "FlatErrorModel", "Trajectory",
-           "linearise"]
+__all__ = ["DP", "DV", "EARTH", "NAV", "PHI", "EarthErrorModel", "ErrorSource", "FlatErrorModel",
+           "Trajectory", "error_model", "linearise"]
 
 #: The navigation error states: attitude error φ (rad), velocity error δv (m/s), position
 #: error δp (m), each 3 components in the navigation frame; ``NAV`` = 9 of them.
@@ -77,6 +106,14 @@ class Trajectory:
         ``f_b`` (m/s²) at the midpoints.
     max_rate, max_force : float
         Largest ``|ω_b|`` and ``|f_b|`` over the midpoints (range warnings).
+    frame : {"flat", "wgs84"}
+        On the Earth ``C`` is ``C_ib`` and ``f_n`` is ``f_i = C_ib f^b`` (the inertial frame
+        of :mod:`imunav.strapdown.earth`), ``omega`` is ``ω_ib^b``, and:
+    gradient : ndarray, shape (N, 3, 3), optional
+        ``Γ = ∂G/∂r`` at the midpoints (Earth only).
+    output : ndarray, shape (N + 1, 9, 9), optional
+        At ``t_0 … t_N``, the map ``H`` of the inertial error state onto the errors in the local
+        NED frame at the true position (Earth only; :meth:`EarthErrorModel.local`).
     """
 
     h: float
@@ -87,6 +124,9 @@ class Trajectory:
     f_b: FloatArray
     max_rate: float = 0.0
     max_force: float = 0.0
+    frame: str = "flat"
+    gradient: FloatArray | None = None
+    output: FloatArray | None = None
 
     @classmethod
     def of(cls, motion: BaseMotion, rate: float, duration: float, g: float = G0) -> Trajectory:
@@ -110,18 +150,49 @@ class Trajectory:
         ------
         ImunavError
             For a non-positive rate, duration or gravity, or fewer than one step.
+
+        Notes
+        -----
+        An :class:`~imunav.motion.geodetic.EarthMotion` gives the trajectory on the rotating
+        Earth (``g`` is not used): see :class:`EarthErrorModel`.
         """
         n = interval_count(rate, duration)
         h = 1.0 / check_positive(rate, "rate")
         g = check_gravity(g)
         t = np.arange(n + 1) * h
         tm = t[:-1] + h / 2
+        if motion.frame == "wgs84":
+            return cls._on_earth(motion, h, t, tm)
         q = motion.attitude(tm)
         a = motion.acceleration(tm) - np.array([0.0, 0.0, g])
         w = motion.angular_rate(tm)
         fb = motion.specific_force(tm, g)
         return cls(h, t, quat_to_dcm(q), a, w, fb, float(np.linalg.norm(w, axis=1).max()),
                    float(np.linalg.norm(fb, axis=1).max()))
+
+    @classmethod
+    def _on_earth(cls, motion, h: float, t: FloatArray, tm: FloatArray) -> Trajectory:
+        """The inertial-frame quantities of an EarthMotion at the midpoints ``tm`` and the output
+        maps at ``t`` (the inertial frame is ECEF at t = 0)."""
+        C = dcm_ecef_to_inertial(tm) @ quat_to_dcm(motion.ecef_attitude(tm))     # C_ib
+        w = motion.angular_rate(tm)
+        fb = motion.specific_force(tm)
+        f_i = np.einsum("nij,nj->ni", C, fb)
+        r_i = np.einsum("nij,nj->ni", dcm_ecef_to_inertial(tm), motion.ecef(tm)[0])
+        st = motion.states(t)
+        lat, lon, alt = st.position.T
+        C_in = dcm_ecef_to_inertial(t) @ dcm_ned_to_ecef(lat, lon)
+        C_ni = np.swapaxes(C_in, 1, 2)
+        K = curvature_matrix(lat, alt) @ C_ni
+        H = np.zeros((t.size, NAV, NAV))
+        H[:, PHI, PHI] = C_ni
+        H[:, PHI, DP] = K
+        H[:, DV, DV] = C_ni
+        H[:, DV, DP] = -C_ni @ skew(np.array([0.0, 0.0, OMEGA_E])) + skew(st.velocity) @ K
+        H[:, DP, DP] = C_ni
+        return cls(h, t, C, f_i, w, fb, float(np.linalg.norm(w, axis=1).max()),
+                   float(np.linalg.norm(fb, axis=1).max()), "wgs84",
+                   gravitation_gradient(r_i), H)
 
     @property
     def steps(self) -> int:
@@ -143,7 +214,9 @@ class Trajectory:
             Views into this one's arrays; the range peaks are this one's.
         """
         return Trajectory(self.h, self.t[lo:hi + 1], self.C[lo:hi], self.f_n[lo:hi],
-                          self.omega[lo:hi], self.f_b[lo:hi], self.max_rate, self.max_force)
+                          self.omega[lo:hi], self.f_b[lo:hi], self.max_rate, self.max_force,
+                          self.frame, None if self.gradient is None else self.gradient[lo:hi],
+                          None if self.output is None else self.output[lo:hi + 1])
 
     def measured(self, triad: str) -> FloatArray:
         """What ``triad`` measures over the steps.
@@ -354,6 +427,23 @@ class FlatErrorModel:
         return (flat_transition(F, B, D, h),
                 process_noise(lambda s: flat_transition(F, B, D, s), source.noise_psd(), h))
 
+    def local(self, traj: Trajectory, P: FloatArray, lo: int = 0) -> FloatArray:
+        """The covariances ``P`` of the error state at ``t_lo, t_lo+1, …`` as covariances of the
+        errors a user reads (here the same: the flat frame's state is those errors).
+
+        Parameters
+        ----------
+        traj : Trajectory
+        P : ndarray, shape (M, 9, 9)
+        lo : int
+            Index of the first output time.
+
+        Returns
+        -------
+        ndarray, shape (M, 9, 9)
+        """
+        return P
+
     def discretise_generic(self, traj: Trajectory, source: ErrorSource, h: float
                            ) -> tuple[FloatArray, FloatArray]:
         """The discrete system of :meth:`discretise` by Van Loan's matrix exponential.
@@ -377,8 +467,161 @@ class FlatErrorModel:
         return van_loan(F, Qc, h)
 
 
-#: The error model of the flat, non-rotating frame (the only frame so far).
+#: The error model of the flat, non-rotating frame.
 FLAT = FlatErrorModel()
+
+
+class EarthErrorModel(FlatErrorModel):
+    """The error dynamics of strapdown navigation on the rotating WGS-84 Earth, in the inertial
+    frame the navigation runs in (see the module's docstring): the flat model's blocks with
+    ``C = C_ib`` and ``f = f_i``, plus the gravity feedback ``Γ`` from δr into δv.
+
+    The transition of a step is the flat frame's closed form plus the exact first-order term in
+    Γ, ``∫ e^{F(h−s)} G e^{Fs} ds`` — on the navigation block and on the sensor states'
+    columns, in closed form with ``A³ = 0`` and the φ-functions of the decay rates: Γh² ≈ 3e-10
+    at 100 Hz, so what is left (Γ² h⁴) is ~1e-19 of a step; :meth:`discretise_generic` (Van
+    Loan, the whole matrix) is its independent check.
+    """
+
+    name = "wgs84"
+
+    def nav_matrix(self, traj: Trajectory) -> FloatArray:
+        """The navigation block ``A`` (N, 9, 9): the flat frame's, plus Γ from δr into δv.
+
+        Parameters
+        ----------
+        traj : Trajectory
+            On the Earth (``traj.gradient`` set).
+
+        Returns
+        -------
+        ndarray, shape (N, 9, 9)
+        """
+        A = super().nav_matrix(traj)
+        A[:, DV, DP] = traj.gradient
+        return A
+
+    def transition(self, traj: Trajectory, B: FloatArray, D: FloatArray, h: float
+                   ) -> FloatArray:
+        """The transition ``Φ`` over a step ``h``: the flat closed form plus the term in Γ.
+
+        Parameters
+        ----------
+        traj : Trajectory
+        B : ndarray, shape (N, 9, k)
+        D : ndarray, shape (k,)
+        h : float
+
+        Returns
+        -------
+        ndarray, shape (N, 9 + k, 9 + k)
+        """
+        F = skew(traj.f_n)
+        Phi = flat_transition(F, B, D, h)
+        return _with_gravity(Phi, F, traj.gradient, B, D, h)
+
+    def discretise(self, traj: Trajectory, source: ErrorSource, h: float | None = None
+                   ) -> tuple[FloatArray, FloatArray]:
+        """The discrete system of one (sub-)step of ``source`` along ``traj``.
+
+        Parameters
+        ----------
+        traj : Trajectory
+        source : ErrorSource
+        h : float, optional
+            The step (s); default one sub-step, ``traj.h / source.sub``.
+
+        Returns
+        -------
+        Phi, Qd : ndarray, shape (N, 9 + k, 9 + k)
+        """
+        h = traj.h / source.sub if h is None else h
+        F = skew(traj.f_n)
+        k = source.size
+        B = self.sensor_input(traj, source.states) if k else np.zeros((traj.steps, NAV, 0))
+        D = source.states.D
+        Gm = traj.gradient
+
+        def phi(s):
+            return _with_gravity(flat_transition(F, B, D, s), F, Gm, B, D, s)
+
+        return phi(h), process_noise(phi, source.noise_psd(), h)
+
+    def local(self, traj: Trajectory, P: FloatArray, lo: int = 0) -> FloatArray:
+        """``H P Hᵀ``: the covariances of the errors in the local NED frame at the true position
+        (attitude, NED velocity, NED position in metres) at ``t_lo, …``.
+
+        Parameters
+        ----------
+        traj : Trajectory
+        P : ndarray, shape (M, 9, 9)
+            Covariances of the inertial error state.
+        lo : int
+            Index in ``traj.t`` of the first.
+
+        Returns
+        -------
+        ndarray, shape (M, 9, 9)
+        """
+        H = traj.output[lo: lo + P.shape[0]]
+        return H @ P @ np.swapaxes(H, 1, 2)
+
+
+def _with_gravity(Phi: FloatArray, F: FloatArray, Gm: FloatArray, B: FloatArray, D: FloatArray,
+                  h: float) -> FloatArray:
+    """Add the first-order term in the gravity gradient to a flat transition (in place).
+
+    ``G`` takes δr into δv, so ``∫₀ʰ e^{A(h−u)} G X(u) du`` for the flat transition's columns
+    ``X(u)`` keeps X's δr rows, fed into δv (weight 1) and δr (weight h − u). On the navigation
+    block X's δr rows are ``[F u²/2, u I, I]``; on the sensor columns ``B_v φ₁(u) + F B_φ φ₂(u)``,
+    whose integrals are φ₂, φ₃ (into δv) and φ₃, φ₄ (into δr).
+    """
+    GF = Gm @ F
+    Phi[:, DV, PHI] += GF * (h**3 / 6)
+    Phi[:, DV, DV] += Gm * (h * h / 2)
+    Phi[:, DV, DP] += Gm * h
+    Phi[:, DP, PHI] += GF * (h**4 / 24)
+    Phi[:, DP, DV] += Gm * (h**3 / 6)
+    Phi[:, DP, DP] += Gm * (h * h / 2)
+    if D.size:
+        p2, p3, p4 = _phi_234(D, h)
+        Bphi, Bv = B[:, PHI], B[:, DV]
+        GBv, GFB = Gm @ Bv, GF @ Bphi
+        Phi[:, DV, NAV:] += GBv * p2 + GFB * p3
+        Phi[:, DP, NAV:] += GBv * p3 + GFB * p4
+    return Phi
+
+
+def _phi_234(d: FloatArray, h: float) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """``φ_i(d) = ∫₀ʰ (h−s)^i/i! e^{d s} ds`` for i = 2, 3, 4 (as
+    :func:`~imunav.estimation.discretisation.phi_functions`: the series below |d h| = 0.5)."""
+    x = d * h
+    small = np.abs(x) < 0.5
+    xs = np.where(small, 1.0, x)
+    out = []
+    for i in (2, 3, 4):
+        ser = sum(x**k / math.factorial(k + i + 1) for k in range(18))
+        tail = np.expm1(xs) - sum(xs**k / math.factorial(k) for k in range(1, i + 1))
+        out.append(np.where(small, h ** (i + 1) * ser, h ** (i + 1) * tail / xs ** (i + 1)))
+    return out[0], out[1], out[2]
+
+
+#: The error model of the rotating WGS-84 Earth.
+EARTH = EarthErrorModel()
+
+
+def error_model(traj: Trajectory) -> FlatErrorModel:
+    """The error model of ``traj``'s frame: :data:`FLAT` or :data:`EARTH`.
+
+    Parameters
+    ----------
+    traj : Trajectory
+
+    Returns
+    -------
+    FlatErrorModel
+    """
+    return EARTH if traj.frame == "wgs84" else FLAT
 
 
 def linearise(model: ImuModel, traj: Trajectory, output: str = "increments", decimate: int = 1

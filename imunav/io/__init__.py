@@ -16,6 +16,8 @@ from imunav.io.files import (
     POSE_HEADER,
     RATES_HEADER,
     STATE_HEADER,
+    STATE_HEADERS,
+    WGS84_STATE_HEADER,
     SignalFile,
     load_motion,
     load_motion_toml,
@@ -24,6 +26,7 @@ from imunav.io.files import (
     read_initial_state,
     read_signals,
     read_states,
+    state_columns,
     write_json,
     write_signals,
     write_states,
@@ -31,7 +34,7 @@ from imunav.io.files import (
 from imunav.io.realdata import READERS, Recording, read_generic, read_ximu, read_ximu3
 
 __all__ = ["HEADERS", "INCREMENTS_HEADER", "POSE_HEADER", "RATES_HEADER", "READERS", "Recording",
-           "STATE_HEADER", "SignalFile", "load_motion", "load_motion_toml", "load_poses",
-           "load_waypoints", "read_aiding", "read_generic",
-           "read_initial_state", "read_signals", "read_states",
-           "read_ximu", "read_ximu3", "write_aiding", "write_json", "write_signals", "write_states"]
+           "STATE_HEADER", "STATE_HEADERS", "SignalFile", "WGS84_STATE_HEADER", "load_motion",
+           "load_motion_toml", "load_poses", "load_waypoints", "read_aiding", "read_generic",
+           "read_initial_state", "read_signals", "read_states", "read_ximu", "read_ximu3",
+           "state_columns", "write_aiding", "write_json", "write_signals", "write_states"]

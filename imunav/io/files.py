@@ -5,6 +5,9 @@ CSV headers (exactly):
 - rates:       ``t,gx,gy,gz,ax,ay,az``        (s, rad/s, m/s²), one row per t_k, k = 0..N
 - increments:  ``t,dthx,dthy,dthz,dvx,dvy,dvz`` (s, rad, m/s), one row per interval end, k = 1..N
 - truth / nav: ``t,x,y,z,vx,vy,vz,qw,qx,qy,qz`` (s, m, m/s, scalar-first q_nb)
+- on the WGS-84 Earth: ``t,lat,lon,alt,vn,ve,vd,qw,qx,qy,qz`` (s, degrees, degrees, m above the
+  ellipsoid, NED m/s relative to the Earth, q_nb relative to the local NED frame); read back in
+  radians (:attr:`~imunav.core.states.States.frame` ``"wgs84"``)
 - poses:       ``t,x,y,z,qw,qx,qy,qz``          (s, m, scalar-first q_nb) — a motion from data;
   a truth CSV is accepted as poses too (its velocities are ignored)
 
@@ -41,6 +44,9 @@ from imunav.sensors.signals import ImuSignals
 RATES_HEADER = ("t", "gx", "gy", "gz", "ax", "ay", "az")
 INCREMENTS_HEADER = ("t", "dthx", "dthy", "dthz", "dvx", "dvy", "dvz")
 STATE_HEADER = ("t", "x", "y", "z", "vx", "vy", "vz", "qw", "qx", "qy", "qz")
+WGS84_STATE_HEADER = ("t", "lat", "lon", "alt", "vn", "ve", "vd", "qw", "qx", "qy", "qz")
+#: The truth/navigation header of each navigation frame.
+STATE_HEADERS = {"flat": STATE_HEADER, "wgs84": WGS84_STATE_HEADER}
 POSE_HEADER = ("t", "x", "y", "z", "qw", "qx", "qy", "qz")
 HEADERS = {"rates": RATES_HEADER, "increments": INCREMENTS_HEADER}
 
@@ -267,15 +273,17 @@ def read_signals(path: str | Path, g: float | None = None) -> ImuSignals:
     return ImuSignals(t, gyro, accel, f.kind, f.rate, f.g)
 
 
-def _states_header(path: Path) -> tuple[str, ...]:
+def _states_header(path: Path) -> tuple[tuple[str, ...], str]:
     header = read_header(path, "state")
-    if header != STATE_HEADER:
-        raise ImunavError(f"{path}: unrecognised header {','.join(header)!r}; expected "
-                          f"{','.join(STATE_HEADER)!r}")
-    return header
+    for frame, h in STATE_HEADERS.items():
+        if header == h:
+            return header, frame
+    raise ImunavError(f"{path}: unrecognised header {','.join(header)!r}; expected "
+                      f"{','.join(STATE_HEADER)!r} (flat frame) or {','.join(WGS84_STATE_HEADER)!r} "
+                      "(WGS-84)")
 
 
-def _states(path: Path, data: np.ndarray) -> States:
+def _states(path: Path, data: np.ndarray, frame: str = "flat") -> States:
     q = data[:, 7:11]
     if np.any(np.linalg.norm(q, axis=1) < 1e-12):
         raise ImunavError(f"{path}: quaternion columns qw,qx,qy,qz must not be all zero")
@@ -283,26 +291,36 @@ def _states(path: Path, data: np.ndarray) -> States:
     if t.size > 1 and np.any(np.diff(t) <= 0):
         i = int(np.argmax(np.diff(t) <= 0))
         raise ImunavError(f"{path}: column t must be strictly increasing (data row {i + 2})")
-    return States(t, data[:, 1:4], data[:, 4:7], q)
+    p = data[:, 1:4]
+    if frame == "wgs84":
+        bad = np.abs(p[:, 0]) > 90
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise ImunavError(f"{path}: column lat must be within ±90° (degrees), got "
+                              f"{p[i, 0]:.10g} in data row {i + 1}")
+        p = np.column_stack([np.radians(p[:, 0]), np.radians(p[:, 1]), p[:, 2]])
+    return States(t, p, data[:, 4:7], q, frame=frame)
 
 
 def read_initial_state(path: str | Path) -> States:
-    """The first data row of a truth/navigation CSV (the rest of the file is not read)."""
+    """The first data row of a truth/navigation CSV (the rest of the file is not read); its
+    frame from the header (WGS-84 latitude and longitude read in degrees, returned in radians)."""
     path = Path(path)
-    row = first_row(path, _states_header(path), "state")
+    header, frame = _states_header(path)
+    row = first_row(path, header, "state")
     if row is None:
         raise ImunavError(f"state file {path} has a header but no data rows")
-    return _states(path, row[None])
+    return _states(path, row[None], frame)
 
 
 def read_states(path: str | Path) -> States:
-    """Read a whole truth/navigation CSV."""
+    """Read a whole truth/navigation CSV (either frame, see :func:`read_initial_state`)."""
     path = Path(path)
-    header = _states_header(path)
+    header, frame = _states_header(path)
     parts = list(read_chunks(path, header, "state"))
     if not parts:
         raise ImunavError(f"state file {path} has a header but no data rows")
-    return _states(path, np.concatenate(parts))
+    return _states(path, np.concatenate(parts), frame)
 
 
 def signals_writer(path: str | Path, kind: str) -> CsvWriter:
@@ -310,9 +328,30 @@ def signals_writer(path: str | Path, kind: str) -> CsvWriter:
     return CsvWriter(path, HEADERS[kind])
 
 
-def states_writer(path: str | Path) -> CsvWriter:
-    """A :class:`CsvWriter` for states; write ``[t, position, velocity, quaternion]`` chunks."""
-    return CsvWriter(path, STATE_HEADER)
+def states_writer(path: str | Path, frame: str = "flat") -> CsvWriter:
+    """A :class:`CsvWriter` for states of ``frame``; write :func:`state_columns` chunks
+    (``[t, position, velocity, quaternion]`` in the flat frame)."""
+    return CsvWriter(path, STATE_HEADERS[frame])
+
+
+def state_columns(states: States) -> list[FloatArray]:
+    """The columns of a truth/navigation CSV for ``states``, in the file's units: latitude and
+    longitude in degrees on the WGS-84 Earth (written to the last bit, as every double: up to
+    17 significant digits, a nanometre of latitude).
+
+    Parameters
+    ----------
+    states : States
+
+    Returns
+    -------
+    list of ndarray
+        ``[t, position, velocity, quaternion]`` for :meth:`CsvWriter.write`.
+    """
+    p = states.position
+    if states.frame == "wgs84":
+        p = np.column_stack([np.degrees(p[:, 0]), np.degrees(p[:, 1]), p[:, 2]])
+    return [states.t, p, states.velocity, states.quaternion]
 
 
 def write_signals(path: str | Path, sig: ImuSignals) -> None:
@@ -322,9 +361,10 @@ def write_signals(path: str | Path, sig: ImuSignals) -> None:
 
 
 def write_states(path: str | Path, states: States) -> None:
-    """Write a truth or navigation file ``t,x,y,z,vx,vy,vz,qw,qx,qy,qz``."""
-    with states_writer(path) as w:
-        w.write([states.t, states.position, states.velocity, states.quaternion])
+    """Write a truth or navigation file ``t,x,y,z,vx,vy,vz,qw,qx,qy,qz`` (or, on the WGS-84
+    Earth, ``t,lat,lon,alt,vn,ve,vd,qw,qx,qy,qz``)."""
+    with states_writer(path, states.frame) as w:
+        w.write(state_columns(states))
 
 
 def write_json(r: dict, path: str | Path) -> None:

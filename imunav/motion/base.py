@@ -41,6 +41,9 @@ class BaseMotion:
     breakpoints: FloatArray | None = None
     #: Time (s) in the source data of the motion's t = 0 (the first pose or waypoint).
     time_offset: float = 0.0
+    #: The navigation frame it is given in: ``"flat"`` (non-rotating NED) or ``"wgs84"`` (the
+    #: rotating Earth, :class:`~imunav.motion.geodetic.EarthMotion`).
+    frame: str = "flat"
 
     def position(self, t: npt.ArrayLike) -> FloatArray:
         """Position ``r_n`` (m)."""

@@ -32,10 +32,19 @@ from imunav.core.states import States
 from imunav.core.validation import ImunavError, as_float_array, check_gravity, check_positive
 from imunav.sensors.signals import KINDS, ImuSignals
 from imunav.strapdown import classic
+from imunav.strapdown.earth import EarthIntegrator
 from imunav.strapdown.highorder import navigate_poly
 
-__all__ = ["ALGORITHMS", "Algorithm", "DEFAULT_ALGORITHM", "StreamNavigator", "navigate",
-           "navigate_batch", "navigate_chunks", "resolve"]
+__all__ = ["ALGORITHMS", "Algorithm", "DEFAULT_ALGORITHM", "EARTH_CHUNK_SECONDS", "EARTHS",
+           "StreamNavigator", "navigate", "navigate_batch", "navigate_chunks", "resolve"]
+
+#: The navigation frames: the flat, non-rotating NED frame, or the rotating WGS-84 Earth
+#: (:mod:`imunav.strapdown.earth`).
+EARTHS = ("flat", "wgs84")
+#: On the Earth the body-frame algorithm runs on pieces of at most this many seconds: its
+#: thrust sums grow like g·t in the inertial frame, and short pieces keep their rounding at
+#: 1e-13 m/s (the vertical channel amplifies velocity errors ~1.6e5 s over an hour).
+EARTH_CHUNK_SECONDS = 64.0
 
 
 @dataclass(frozen=True)
@@ -173,16 +182,26 @@ class StreamNavigator:
 
     def __init__(self, kind: str, rate: float, q0, v0, p0, g: float = G0, *,
                  algorithm: str | None = None, runs: int | None = None, chunk: int = CHUNK,
-                 t0: float = 0.0):
+                 t0: float = 0.0, earth: str = "flat"):
         self.algo = resolve(kind, algorithm)
         self.t0 = float(t0)
         self.h = 1.0 / check_positive(rate, "rate")
-        self.g = check_gravity(g)
-        self.state = (q0, v0, p0)
+        if earth not in EARTHS:
+            raise ImunavError(f"earth must be one of {EARTHS}, got {earth!r}", argument="earth")
         self.own = 1 if kind == "rates" else 0           # an interval's own samples beyond k
         before, after = self.algo.context
         self.before, self.after = before, after
         per = max(1, chunk // max(1, runs or 1))
+        if earth == "wgs84":
+            # the body-frame algorithm in the inertial frame, without gravity (EarthIntegrator)
+            self.earth = EarthIntegrator(self.h, self.t0, q0, v0, p0)
+            zero = np.zeros(np.shape(v0))
+            self.state, self.g = (self.earth.q_ib, zero, zero), 0.0
+            per = min(per, max(1, int(EARTH_CHUNK_SECONDS * rate)))
+        else:
+            self.earth = None
+            self.g = check_gravity(g)
+            self.state = (q0, v0, p0)
         self.chunk = max(self.algo.align, per // self.algo.align * self.algo.align)
         self.buf_g: list[np.ndarray] = []
         self.buf_a: list[np.ndarray] = []
@@ -212,14 +231,20 @@ class StreamNavigator:
             raise ImunavError(
                 f"navigation became non-finite at t = {self.t0 + k * self.h:.9g} s: the signals "
                 f"are too large to integrate (up to {big:.3g} in SI units); check their units")
-        self.state = (q[-1], v[-1], p[-1])
+        if self.earth is not None:
+            zero = np.zeros_like(v[-1])
+            self.state = (q[-1], zero, zero)
+            out = self.earth.advance(q, v, p)
+        else:
+            self.state = (q[-1], v[-1], p[-1])
+            out = q[1:], v[1:], p[1:]
         self.next = hi
         keep = max(self.buf_start, hi - self.before)               # drop what is not context
         if keep > self.buf_start:
             cut = keep - self.buf_start
             self.buf_g, self.buf_a = [self.buf_g[0][cut:]], [self.buf_a[0][cut:]]
             self.buf_start, self.buf_len = keep, self.buf_len - cut
-        return q[1:], v[1:], p[1:]
+        return out
 
     def feed(self, gyro: np.ndarray, accel: np.ndarray) -> list[tuple]:
         self.buf_g.append(np.asarray(gyro, float))
@@ -263,7 +288,7 @@ def _collect(nav: StreamNavigator, gyro, accel, q0, v0, p0) -> tuple[FloatArray,
 
 def navigate(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike = (0.0, 0.0, 0.0),
              p0: npt.ArrayLike = (0.0, 0.0, 0.0), *, algorithm: str | None = None,
-             g: float | None = None) -> States:
+             g: float | None = None, earth: str = "flat") -> States:
     """Integrate IMU signals from an initial state.
 
     Parameters
@@ -271,42 +296,53 @@ def navigate(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike = (0.0, 0
     signals : ImuSignals
         Rates (``t_k``, k = 0..N) or increments (interval ends ``t_k``, k = 1..N).
     q0 : array_like, shape (4,)
-        Initial attitude ``q_nb`` at the start time ``signals.t0``.
+        Initial attitude ``q_nb`` at the start time ``signals.t0`` (on the Earth: relative to
+        the local NED frame).
     v0, p0 : array_like, shape (3,)
-        Initial velocity (m/s) and position (m), NED.
+        Initial velocity (m/s) and position (m), NED; on the Earth (``earth="wgs84"``) the
+        velocity relative to the Earth in local NED and ``p0 = [lat, lon, h]`` (rad, rad, m).
     algorithm : str, optional
         A name from ``ALGORITHMS[signals.kind]``; default the most accurate for the kind.
     g : float, optional
-        Gravity magnitude (m/s²); default ``signals.g``.
+        Gravity magnitude (m/s²) of the flat frame; default ``signals.g``. Not with
+        ``earth="wgs84"`` (gravity comes from the normal gravity model).
+    earth : {"flat", "wgs84"}
+        The navigation frame: flat and non-rotating, or the rotating WGS-84 Earth
+        (:mod:`imunav.strapdown.earth`: Earth rate, transport rate, Coriolis, normal gravity).
 
     Returns
     -------
     States
         States at ``signals.state_times()`` (the first row is the initial state), with the
-        algorithm's name.
+        algorithm's name (and ``frame="wgs84"`` on the Earth: positions ``[lat, lon, h]``).
     """
     if not isinstance(signals, ImuSignals):
         raise ImunavError(f"signals must be ImuSignals, got {type(signals).__name__}")
     q0 = quat_normalize(as_float_array(q0, "q0", ndim=1, last=4), "q0")
     v0 = as_float_array(v0, "v0", ndim=1, last=3)
     p0 = as_float_array(p0, "p0", ndim=1, last=3)
+    if earth == "wgs84" and g is not None:
+        raise ImunavError("g belongs to the flat frame: on the WGS-84 Earth gravity comes from "
+                          "the normal gravity model", argument="g")
     g = signals.g if g is None else check_gravity(g)
     algo = resolve(signals.kind, algorithm)
     if len(signals) < algo.min_samples:
         raise ImunavError(f"{signals.kind} signals need at least {algo.min_samples} samples, "
                           f"got {len(signals)}")
     nav = StreamNavigator(signals.kind, signals.rate, q0, v0, p0, g, algorithm=algo.name,
-                          t0=signals.t0)
+                          t0=signals.t0, earth=earth)
     q, v, p = _collect(nav, signals.gyro, signals.accel, q0, v0, p0)
-    return States(signals.state_times(), p, v, q, algo.name)
+    return States(signals.state_times(), p, v, q, algo.name, frame=earth)
 
 
 def navigate_batch(kind: str, gyro: FloatArray, accel: FloatArray, rate: float,
                    q0: npt.ArrayLike, v0: npt.ArrayLike, p0: npt.ArrayLike, g: float = G0, *,
-                   algorithm: str | None = None) -> tuple[FloatArray, FloatArray, FloatArray]:
+                   algorithm: str | None = None, earth: str = "flat", t0: float = 0.0
+                   ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Integrate R runs at once: ``gyro``/``accel`` of shape (N, R, 3), from the same or per-run
     initial states (``q0`` (4,) or (R, 4), ``v0``/``p0`` (3,) or (R, 3)). Returns ``(q, v, p)``
-    of shapes (N+1 or N, R, 4|3) as :func:`navigate` does for one run."""
+    of shapes (N+1 or N, R, 4|3) as :func:`navigate` does for one run (``earth``: as there;
+    ``t0`` the start time)."""
     algo = resolve(kind, algorithm)
     gyro = as_float_array(gyro, "gyro", ndim=3, last=3)
     accel = as_float_array(accel, "accel", ndim=3, last=3)
@@ -319,13 +355,15 @@ def navigate_batch(kind: str, gyro: FloatArray, accel: FloatArray, rate: float,
                                               (R, 4)))
     v0 = np.ascontiguousarray(np.broadcast_to(as_float_array(v0, "v0", last=3), (R, 3)))
     p0 = np.ascontiguousarray(np.broadcast_to(as_float_array(p0, "p0", last=3), (R, 3)))
-    nav = StreamNavigator(kind, rate, q0, v0, p0, g, algorithm=algo.name, runs=R)
+    nav = StreamNavigator(kind, rate, q0, v0, p0, g, algorithm=algo.name, runs=R, earth=earth,
+                          t0=t0)
     return _collect(nav, gyro, accel, q0, v0, p0)
 
 
 def navigate_chunks(kind: str, rate: float, chunks: Iterable[tuple[FloatArray, FloatArray, FloatArray]],
                     q0: npt.ArrayLike, v0: npt.ArrayLike, p0: npt.ArrayLike, g: float = G0, *,
-                    algorithm: str | None = None, t0: float = 0.0) -> Iterator[States]:
+                    algorithm: str | None = None, t0: float = 0.0, earth: str = "flat"
+                    ) -> Iterator[States]:
     """Navigate signals that arrive in pieces, in bounded memory: what ``imunav navigate``
     streams from a CSV of any length.
 
@@ -348,6 +386,9 @@ def navigate_chunks(kind: str, rate: float, chunks: Iterable[tuple[FloatArray, F
     t0 : float
         Start time (s): the first sample for rates, the start of the first interval for
         increments.
+    earth : {"flat", "wgs84"}
+        The navigation frame (as :func:`navigate`; on the Earth ``p0 = [lat, lon, h]`` and
+        ``g`` is not used).
 
     Yields
     ------
@@ -363,9 +404,9 @@ def navigate_chunks(kind: str, rate: float, chunks: Iterable[tuple[FloatArray, F
     """
     algo = resolve(kind, algorithm)
     q0, v0, p0 = (np.asarray(a, dtype=float) for a in (q0, v0, p0))
-    nav = StreamNavigator(kind, rate, q0, v0, p0, g, algorithm=algo.name, t0=t0)
+    nav = StreamNavigator(kind, rate, q0, v0, p0, g, algorithm=algo.name, t0=t0, earth=earth)
     yield States(np.array([float(t0)]), p0[None], v0[None], (q0 / np.linalg.norm(q0))[None],
-                 algo.name)
+                 algo.name, frame=earth)
     times: deque[float] = deque()                    # times of the nodes still to come out
     skip = 1 if kind == "rates" else 0               # a rate signal's first sample is node 0
     fed = 0
@@ -374,7 +415,7 @@ def navigate_chunks(kind: str, rate: float, chunks: Iterable[tuple[FloatArray, F
         """The completed nodes as States, each with its time."""
         for q, v, p in parts:
             t = np.array([times.popleft() for _ in range(len(q))])
-            yield States(t, p, v, q, algo.name)
+            yield States(t, p, v, q, algo.name, frame=earth)
 
     for t, gyro, accel in chunks:
         times.extend(np.asarray(t)[skip:].tolist())

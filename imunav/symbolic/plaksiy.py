@@ -16,6 +16,8 @@ Findings (each computed by a function here and shown in notebook 02):
 4. For linear angle laws (rational frequencies) the seeming turn vector θ(t) = ∫₀ᵗ ω dt —
    hence the quasi-coordinates (7) — has a closed form, a finite sum of sinusoids plus a
    secular term (:func:`seeming_turn_closed_form`), as the paper states.
+5. Eq. (5) differentiated in time (:func:`omega_rate_lambdified`) gives the ω̇ that Euler's
+   dynamic equations need, to ask whether (3) and (5) solve them without a torque.
 
 May import: nothing from imunav but ``imunav.symbolic``.
 """
@@ -185,3 +187,17 @@ def seeming_turn_closed_form(k) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
         e = sp.expand(TR8(sp.expand(w.subs(rates).subs(laws))))
         out.append(sp.integrate(e, (u, 0, t)))
     return tuple(out)
+
+
+def omega_rate_lambdified():
+    """ω̇ of eq. (5) as a numpy function ``f(angles (4), rates (4), accelerations (4)) →
+    (ω̇₁, ω̇₂, ω̇₃)``: eq. (5) differentiated in time by SymPy (the chain rule through the four
+    angle laws), for Euler's dynamic equations."""
+    a = sp.symbols("a0:4", real=True)
+    r = sp.symbols("r0:4", real=True)
+    acc = sp.symbols("acc0:4", real=True)
+    sub2 = {sp.diff(x, t, 2): ai for x, ai in zip(ANGLES, acc, strict=True)}
+    sub1 = {sp.diff(x, t): ri for x, ri in zip(ANGLES, r, strict=True)}
+    sub0 = dict(zip(ANGLES, a, strict=True))
+    exprs = [sp.diff(e, t).subs(sub2).subs(sub1).subs(sub0) for e in printed_eq5()]
+    return sp.lambdify(a + r + acc, exprs, "numpy")

@@ -1,16 +1,32 @@
 # %% [markdown]
 # # Can this IMU track my motion? — datasheet errors, verdict, design, models from a log
 #
+# ## What you will learn
+#
+# - what the error terms of an IMU datasheet mean (white noise, bias instability, turn-on
+#   bias, misalignment, …) and how each one grows into a position error;
+# - two ways to the same verdict — **Monte Carlo** (simulate and navigate many noisy runs)
+#   and **linear covariance analysis** (propagate the error covariance along the true motion
+#   once) — and why the second gives an exact error budget;
+# - the inverse question: the worst IMU that still meets a tolerance;
+# - how an IMU model is read off a static log with the **Allan variance** and its slopes.
+#
+# **What you should know first:** notebook 00; a Gaussian distribution and its percentiles;
+# matrix products.
+#
+# **Scope.** The navigation is unaided, on a flat, non-rotating Earth: nothing ever corrects
+# the errors, so they grow without bound, and the verdicts are those of the IMU alone. Aiding
+# (GNSS, zero-velocity updates) bounds them; so, on the real Earth, does the Schuler loop,
+# which turns a tilt error into an oscillation instead of a quadratic growth — it matters only
+# for runs that are a sizeable fraction of its period (printed below); the motions here last
+# a minute at most.
+#
 # The tool the Marusenkova paper's introduction asks for: preset a motion and the error
 # characteristics a manufacturer specifies, simulate the sensors' signals, compute many
 # potential trajectories, and judge from the spread whether the IMU suits the task — without
-# building a device. Two ways to the same verdict: **Monte Carlo** (simulate and navigate many
-# noisy runs) and **linear covariance analysis** (propagate the error covariance along the true
-# motion once: a fraction of a second, exact per error term). Then the inverse question — the
-# worst IMU that still meets a tolerance — and an IMU model fitted from a static log.
-# Computation: `imunav.sensors` (error models, Allan fits), `imunav.analysis` (Monte Carlo,
-# covariance, verdict, design); presets with their datasheet sources in
-# `imunav.sensors.presets`. Units: SI in the API; the sliders and printouts use datasheet units
+# building a device. Computation: `imunav.sensors` (error models, Allan fits), `imunav.analysis`
+# (Monte Carlo, covariance, verdict, design); the presets with their datasheet sources are in
+# `imunav.sensors.presets`. SI in the API; the sliders and printouts use datasheet units
 # (°/√h, °/h, µg/√Hz, µg, mg, mrad) and say so.
 
 # %%
@@ -18,6 +34,7 @@ import time
 
 import matplotlib.pyplot as plt
 import numpy as np
+from IPython.display import Markdown
 from ipywidgets import Dropdown, FloatLogSlider, GridBox, Layout, VBox, interactive_output
 
 from imunav import (
@@ -33,39 +50,52 @@ from imunav import (
 from imunav.analysis.assessment import min_sample_rate, verdict_covariance
 from imunav.analysis.covariance import CovarianceResult
 from imunav.papers.marusenkova2020 import motion_for
-from imunav.plotting import plot_allan, plot_envelope, plot_verdict
+from imunav.plotting import (
+    figure,
+    name,
+    plot_allan,
+    plot_envelope,
+    plot_verdict,
+    styled,
+    use_book_style,
+)
 from imunav.sensors import PRESETS, ImuModel, TriadModel, allan_deviation, apply_triad, fit_allan
 from imunav.sensors.allan_report import imu_toml
 
+use_book_style()
 SEED = 2026
+R_EARTH, G = 6.371e6, 9.80665   # m (mean radius), m/s²
+print(f"Schuler period 2π√(R/g): {2 * np.pi * np.sqrt(R_EARTH / G) / 60:.1f} min — not modelled here")
 
 # %% [markdown]
 # ## 1. The presets, and their Allan curves (stationary self-check)
+# Each preset lists the error terms its datasheet specifies. They are named as in an IMU file
+# (`triad.term`, e.g. `gyro.noise_density`: the gyro's white noise), and the verdicts below
+# use those names too:
 
 # %%
-for name in PRESETS:
-    m = ImuModel.load(name)
-    print(f"{name:10s}", ", ".join(m.terms()) or "(no errors)")
+for preset in PRESETS:
+    m = ImuModel.load(preset)
+    print(f"{preset:10s}", "; ".join(f"{t} ({name(t)})" for t in m.terms()) or "(no errors)")
 
-# %%
-fig, axs = plt.subplots(1, 2, figsize=(12, 4))
-for name in ("BNO055", "BMI088", "ADIS16470", "tactical"):
-    m = ImuModel.load(name)
+# %% tags=["hide-input"]
+fig, axs = figure(1, 2, height=3.2)
+for preset in ("BNO055", "BMI088", "ADIS16470", "tactical"):
+    m = ImuModel.load(preset)
     for ax, tri, unit, scale in ((axs[0], m.gyro, "°/h", 180 / np.pi * 3600),
-                                 (axs[1], m.accel, "µg", 1e6 / 9.80665)):
+                                 (axs[1], m.accel, "µg", 1e6 / G)):
         stoch = TriadModel(noise_density=tri.noise_density, bias_instability=tri.bias_instability,
                            bias_correlation_time=tri.bias_correlation_time,
                            random_walk=tri.random_walk)
         y, _ = apply_triad(stoch, np.zeros((36_000, 3)), "rates", 10.0,
                            np.random.default_rng(SEED))
         taus, adev = allan_deviation(y[:, 0], 10.0)
-        ax.loglog(taus, adev * scale, label=name)
+        ax.loglog(taus, adev * scale, **styled(preset))
         ax.set(xlabel="τ (s)", ylabel=f"Allan deviation ({unit})")
         ax.grid(True, which="both", lw=0.3, alpha=0.5)
 axs[0].set_title("gyro (x axis, 1 h at 10 Hz)")
 axs[1].set_title("accelerometer")
-axs[1].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
-plt.tight_layout()
+axs[1].legend(loc="lower left")
 plt.show()
 
 # %% [markdown]
@@ -79,21 +109,46 @@ adis = ImuModel.load("ADIS16470")
 r = assess(walk, adis, 100.0, runs=100, tolerance=2.0, seed=SEED, progress=False)
 print(format_verdict(r))
 
-# %%
+# %% tags=["hide-input"]
 mc = monte_carlo(walk, adis, 100.0, runs=100, seed=SEED, progress=False)
-ax = plot_envelope(mc, tolerance=2.0)
-ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-plt.tight_layout()
+fig, ax = figure(height=3.0)
+plot_envelope(mc, tolerance=2.0, ax=ax)
+ax.legend(loc="upper left")
 plt.show()
 
 # %% [markdown]
 # ## 3. The same verdict by covariance analysis
 #
-# To first order the navigation errors are linear in the sensor errors, so their covariance can
-# be propagated along the exact true motion — once, and separately for each error term
-# (independent terms add). The 95th percentile of the position error *norm* follows exactly
-# from the 3×3 covariance (the norm of a correlated Gaussian vector, not a multiple of σ).
-# Below: the covariance envelope over the Monte Carlo runs of §2, and the time each takes.
+# To first order the navigation errors are linear in the sensor errors. Write them as the
+# error state $\boldsymbol x = (\boldsymbol\phi, \delta\boldsymbol v, \delta\boldsymbol p)$ —
+# the attitude error $\boldsymbol\phi$ (the estimated attitude is
+# $\hat C_{nb} = (I - [\boldsymbol\phi\times])\,C_{nb}$), the velocity and the position errors —
+# driven by the gyro and accelerometer errors $\delta\boldsymbol\omega$, $\delta\boldsymbol f$ (in
+# body axes). On the flat, non-rotating Earth of this book they obey
+#
+# $$
+# \dot{\boldsymbol\phi} = -C_{nb}\,\delta\boldsymbol\omega, \qquad
+# \delta\dot{\boldsymbol v} = [\boldsymbol f_n\times]\,\boldsymbol\phi + C_{nb}\,\delta\boldsymbol f, \qquad
+# \delta\dot{\boldsymbol p} = \delta\boldsymbol v ,
+# $$
+#
+# with $\boldsymbol f_n = \boldsymbol a_n - \boldsymbol g_n$ the specific force in the navigation
+# frame: a tilt $\boldsymbol\phi$ leaks gravity into the horizontal. Each sensor error is itself
+# a state — a random constant (turn-on bias, misalignment, scale factor), a Gauss–Markov
+# process (bias instability), an integrated white noise (random walk) — or white noise of
+# spectral density $N^2$. Stacked into $\boldsymbol x_k$, one step of length $h$ along the true
+# motion is linear, $\boldsymbol x_{k+1} = \Phi_k\,\boldsymbol x_k + \boldsymbol w_k$, and so is
+# the covariance:
+#
+# $$ P_{k+1} = \Phi_k\,P_k\,\Phi_k^{\mathsf T} + Q_k ,
+#    \qquad Q_k = \int_0^h \Phi(s)\,G\,S\,G^{\mathsf T}\,\Phi(s)^{\mathsf T}\,ds , $$
+#
+# computed exactly here (the navigation part of the dynamics is nilpotent, so $\Phi_k$ has a
+# closed form). Independent error terms add, $P = \sum_{\text{terms}} P^{(j)}$, so each term's
+# share — the error budget — is exact too. The 95th percentile of the position error *norm*
+# follows from the 3×3 position block of $P$ (the norm of a correlated Gaussian vector, not a
+# multiple of σ). Below: the covariance envelope over the Monte Carlo runs of §2, and the time
+# each takes.
 
 # %%
 rc = assess_covariance(walk, adis, 100.0, tolerance=2.0)
@@ -115,21 +170,20 @@ print(f"time: covariance, every term {t_cov:.2f} s; Monte Carlo, 1000 runs of al
       f"together {t_mc:.1f} s ({t_mc / t_cov:.0f}×; its error budget would take 200 more runs "
       "per term)")
 
-# %%
-fig, axs = plt.subplots(1, 2, figsize=(13, 4))
+# %% tags=["hide-input"]
+fig, axs = figure(1, 2, height=3.0)
 for ax, key, env_key, unit in ((axs[0], "position", "position_p95_m", "m"),
                                (axs[1], "attitude", "attitude_p95_rad", "rad")):
-    ax.plot(mc1000.t, np.percentile(getattr(mc1000, key), 95, axis=0), color="C0", lw=3,
-            alpha=0.5, label="Monte Carlo, 1000 runs")
-    ax.plot(rc["envelope"]["t"], rc["envelope"][env_key], "C1--", lw=1.5, label="covariance")
-    ax.set(xlabel="t (s)", ylabel=f"{key} error, 95th percentile ({unit})")
-axs[1].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
-plt.tight_layout()
+    ax.plot(mc1000.t, np.percentile(getattr(mc1000, key), 95, axis=0),
+            **styled("montecarlo", lw=3.5, alpha=0.6, label="Monte Carlo, 1000 runs"))
+    ax.plot(rc["envelope"]["t"], rc["envelope"][env_key], **styled("covariance", lw=1.5))
+    ax.set(xlabel="t (s)", ylabel=f"{key} error, 95th pct ({unit})")
+axs[0].legend(loc="upper left")
 plt.show()
 
-# %%
-plot_verdict(rc, cov_walk)
-plt.tight_layout()
+# %% tags=["hide-input"]
+fig, ax = figure(height=3.4)
+plot_verdict(rc, cov_walk, ax=ax)
 plt.show()
 
 # %% [markdown]
@@ -141,28 +195,34 @@ plt.show()
 # %%
 car = Motion(x="10*t + 2*sin(0.2*t)", y="5*(1 - cos(0.1*t))", yaw="0.5*(1 - cos(0.1*t))",
              duration=60.0, name="vehicle")
-for name in ("BNO055", "tactical"):
-    res = assess(car, ImuModel.load(name), 100.0, runs=50, tolerance=10.0, seed=SEED,
+for preset in ("BNO055", "tactical"):
+    res = assess(car, ImuModel.load(preset), 100.0, runs=50, tolerance=10.0, seed=SEED,
                  budget_runs=20, progress=False)
     print(format_verdict(res))
     print()
 
-# %%
-fig, ax = plt.subplots(figsize=(9, 4))
-for name in ("BNO055", "tactical"):
-    plot_envelope(monte_carlo(car, ImuModel.load(name), 100.0, runs=50, seed=SEED,
-                              progress=False), tolerance=10.0, ax=ax, label=name)
+# %% tags=["hide-input"]
+fig, ax = figure(height=3.4)
+for preset in ("BNO055", "tactical"):
+    plot_envelope(monte_carlo(car, ImuModel.load(preset), 100.0, runs=50, seed=SEED,
+                              progress=False), tolerance=10.0, ax=ax)
 ax.set_yscale("log")
-ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-plt.tight_layout()
+ax.legend(loc="lower right", ncols=2)
 plt.show()
 
-# %% [markdown]
-# A consumer MEMS IMU alone (turn-on bias of ~1°/s, tens of mg) cannot hold a vehicle's
-# position for a minute; even the tactical unit needs aiding. The error budget says which
-# specification to buy better: here it is the turn-on bias, i.e. calibration, before noise.
-# The BNO055's 1 °/s bias also takes the attitude error beyond the small-angle model: the
-# covariance analysis says so, and Monte Carlo is the method there.
+# %%
+bno, tac = ImuModel.load("BNO055"), ImuModel.load("tactical")
+dom = {p: next(iter(assess_covariance(car, ImuModel.load(p), 100.0,
+                                      tolerance=10.0)["error_budget"])) for p in ("BNO055", "tactical")}
+Markdown(
+    f"A consumer MEMS IMU alone (the BNO055: turn-on bias {np.degrees(bno.gyro.bias):.1f} °/s "
+    f"and {bno.accel.bias / G * 1e3:.0f} mg) cannot hold a vehicle's position for a minute; even "
+    f"the tactical unit ({np.degrees(tac.gyro.bias) * 3600:.1f} °/h, "
+    f"{tac.accel.bias / G * 1e3:.1f} mg) needs aiding. The error budget says which specification "
+    f"to buy better: for the BNO055 the **{name(dom['BNO055'])}**, for the tactical unit the "
+    f"**{name(dom['tactical'])}** — calibration before noise. The BNO055's gyro bias also takes "
+    "the attitude error beyond the small-angle model: the covariance analysis says so below, "
+    "and Monte Carlo is the method there.")
 
 # %%
 print(format_verdict(assess_covariance(car, ImuModel.load("BNO055"), 100.0, tolerance=10.0)))
@@ -203,8 +263,8 @@ SLIDERS = [
 UNIT = ImuModel(TriadModel(noise_density=1.0, bias_instability=1.0, bias=1.0, misalignment=1.0),
                 TriadModel(noise_density=1.0, bias_instability=1.0, bias=1.0, misalignment=1.0),
                 "unit")
-MOTIONS = {"walk": walk, "vehicle": car, "Marusenkova fig1a": motion_for("fig1a"),
-           "Marusenkova fig1b": motion_for("fig1b")}
+MOTIONS = {"walk": walk, "vehicle": car, "Marusenkova Fig. 1a motion": motion_for("fig1a"),
+           "Marusenkova Fig. 1b motion": motion_for("fig1b")}
 _unit_cache, _rate_cache = {}, {}
 
 
@@ -234,15 +294,38 @@ def live_verdict(motion_name, rate, tolerance, values):
     return r, cov
 
 
+START = [s[3] for s in SLIDERS]
+
+# %% [markdown]
+# What the gyro turn-on-bias slider does, at four values side by side (all other sliders at
+# their starting values; the dominant terms in each panel in their own colours):
+
+# %% tags=["hide-input"]
+fig, axs = figure(2, 2, height=5.4, sharex=True, sharey=True)
+handles = {}
+for ax, bias in zip(axs.flat, (2.0, 20.0, 200.0, 2000.0), strict=True):
+    vals = [bias if s[0] == "gyro.bias" else v for s, v in zip(SLIDERS, START, strict=True)]
+    r_b, cov_b = live_verdict("walk", 100.0, 2.0, vals)
+    plot_verdict(r_b, cov_b, ax=ax, top=3, log=True, legend=False)
+    ax.set_title(f"gyro turn-on bias {bias:g} °/h: {'suitable' if r_b['suitable'] else 'not suitable'}")
+    ax.label_outer()
+    handles.update(zip(*reversed(ax.get_legend_handles_labels()), strict=True))
+fig.legend(list(handles.values()), list(handles), loc="outside lower center", ncols=3)
+plt.show()
+
+# %% [markdown]
+# The sliders' starting state, drawn by the same function the widget calls:
+
+# %%
 def draw(motion_name, rate, tolerance, *values):
     r, cov = live_verdict(motion_name, rate, tolerance, values)
     print(format_verdict(r))
-    plot_verdict(r, cov, log=True)
-    plt.tight_layout()
+    fig, ax = figure(height=3.4)
+    plot_verdict(r, cov, ax=ax, log=True)
     plt.show()
 
 
-draw("walk", 100.0, 2.0, *[s[3] for s in SLIDERS])
+draw("walk", 100.0, 2.0, *START)
 
 # %%
 # NBVAL_IGNORE_OUTPUT
@@ -251,10 +334,10 @@ controls = {"motion_name": Dropdown(options=list(MOTIONS), value="walk", descrip
                                    continuous_update=False),
             "tolerance": FloatLogSlider(value=2.0, base=10, min=-2, max=3,
                                         description="tolerance (m)", continuous_update=False)}
-for name, unit, _, start, lo, hi in SLIDERS:
-    controls[name.replace(".", "__")] = FloatLogSlider(
+for term, unit, _, start, lo, hi in SLIDERS:
+    controls[term.replace(".", "__")] = FloatLogSlider(
         value=start, base=10, min=np.log10(lo), max=np.log10(hi), continuous_update=False,
-        description=f"{name.split('.')[0]} {name.split('.')[1].replace('_', ' ')} ({unit})",
+        description=f"{name(term)} ({unit})",
         style={"description_width": "210px"}, layout=Layout(width="460px"))
 
 
@@ -267,14 +350,27 @@ VBox([GridBox(list(controls.values()), layout=Layout(grid_template_columns="repe
       out])
 
 # %% [markdown]
-# ## 7. A model from a static log: the Allan deviation fit
+# ## 7. A model from a static log: the Allan variance
 #
-# `imunav allan LOG.csv --fit IMU.toml` does this from the command line. Here: two hours of a
-# static ADIS16470 at 50 Hz (simulated; a real recording works the same), the overlapping Allan
-# deviation of each axis, and σ²(τ) = N²/τ + B² + K²τ/3 fitted by weighted least squares. A
-# term is kept only where it dominates over at least half a decade of τ; otherwise the file
-# says why. B is the Allan floor, as datasheets quote bias instability (the IEEE 952 flicker
-# coefficient is B/0.664).
+# Average a static sensor's output $y$ over windows of length $\tau$, $\bar y_k(\tau)$, and
+# look at how much consecutive averages differ. The (overlapping) **Allan variance** is
+#
+# $$ \sigma^2(\tau) = \tfrac12\,\big\langle\,(\bar y_{k+1}(\tau) - \bar y_k(\tau))^2\,\big\rangle_k ,$$
+#
+# the mean over every pair of adjacent windows, at every start sample. Each error process has
+# its own shape in $\tau$: white noise of density $N$ averages down as $N^2/\tau$, a bias that
+# wanders slowly gives a floor $B^2$ (bias instability), and a random walk of density $K$ grows
+# as $K^2\tau/3$:
+#
+# $$ \sigma^2(\tau) = \frac{N^2}{\tau} + B^2 + \frac{K^2\,\tau}{3} , $$
+#
+# so on a log–log plot of $\sigma(\tau)$ they are straight lines of slope $-\tfrac12$, $0$ and
+# $+\tfrac12$; $N$ is read where the $-\tfrac12$ line crosses $\tau = 1$ s and $K$ where the
+# $+\tfrac12$ line crosses $\tau = 3$ s (IEEE 952). `imunav allan LOG.csv --fit IMU.toml`
+# fits the model by weighted least squares. Here: two hours of a static ADIS16470 at 50 Hz
+# (simulated; a real recording works the same). A term is kept only where it dominates over
+# at least half a decade of τ; otherwise the file says why. B is the Allan floor, as
+# datasheets quote bias instability (the IEEE 952 flicker coefficient is B/0.664).
 
 # %%
 n = 2 * 3600 * 50
@@ -288,7 +384,7 @@ accel_log, _ = apply_triad(TriadModel(noise_density=adis.accel.noise_density,
 fits = {"gyro": fit_allan(gyro_log, 50.0), "accel": fit_allan(accel_log, 50.0)}
 print(imu_toml(fits, "a simulated 2-hour static ADIS16470"))
 
-# %%
+# %% tags=["hide-input"]
 plot_allan(fits)
 plt.show()
 
@@ -306,7 +402,7 @@ for triad, unit, scale in (("gyro", "°/√h, °/h", (180 / np.pi * 60, 180 / np
 print(format_verdict(assess_covariance(walk, fitted, 100.0, tolerance=2.0)).splitlines()[1])
 
 # %% [markdown]
-# ## CI hook
+# ## Checks run by the tests
 
 # %%
 print(r["fraction_within_tolerance"], r["min_rate_hz"])
@@ -315,3 +411,48 @@ assert r == assess(walk, adis, 100.0, runs=100, tolerance=2.0, seed=SEED,
 # covariance and 1000-run Monte Carlo: the same 95th percentile within 10 % (sampling ≈ 3 %)
 assert abs(rc["final_p95_position_m"] / p95_mc - 1) < 0.1
 assert abs(fitted.gyro.noise_density / adis.gyro.noise_density - 1) < 0.05
+
+# %% [markdown]
+# ## Takeaways
+#
+# - Unaided, every sensor error grows into position: white noise as a random walk, a bias
+#   quadratically (accelerometer) or cubically (gyro, through the tilt that leaks gravity).
+# - Monte Carlo and covariance analysis give the same verdict where the error model is linear;
+#   the covariance does it in one pass and splits it exactly into each term's share.
+# - Because covariances scale with the square of each datasheet value, the largest acceptable
+#   value of every term — the worst IMU that still does — is exact, not searched for.
+# - A static log's Allan deviation shows each noise process as a slope; reading them gives an
+#   IMU model for the same analyses.
+#
+# ## Exercises
+#
+# **Exercise 1.** Covariances scale with the square of a datasheet value, so a single term's
+# 95th-percentile position error scales linearly. Halve the ADIS16470's accelerometer
+# misalignment and predict that term's final 95th percentile on the walk; then check it with a
+# covariance run of the halved IMU.
+
+# %% tags=["hide-cell"] jupyter={"source_hidden": true, "outputs_hidden": true}
+# Solution
+from dataclasses import replace  # noqa: E402
+
+term = "accel.misalignment"
+before = float(cov_walk.position_quantile(0.95, term=term, index=-1))
+half = ImuModel(adis.gyro, replace(adis.accel, misalignment=adis.accel.misalignment / 2),
+                "half misalignment")
+after = float(covariance(walk, half, 100.0).position_quantile(0.95, term=term, index=-1))
+print(f"{name(term)}: {before:.3f} m → predicted {before / 2:.3f} m, computed {after:.3f} m")
+assert abs(after / (before / 2) - 1) < 1e-6
+
+# %% [markdown]
+# **Exercise 2.** Read the gyro's white noise $N$ off the Allan deviation of §7: the value of
+# $\sigma(\tau)$ at $\tau = 1$ s (averaged over the three axes). How far is it from the fitted
+# $N$, and why is it a little higher?
+
+# %% tags=["hide-cell"] jupyter={"source_hidden": true, "outputs_hidden": true}
+# Solution
+g = fits["gyro"]
+at_1s = float(np.exp(np.interp(0.0, np.log(g["taus"]), np.log(g["adev_axes"].mean(axis=1)))))
+n_fit = fits["gyro"]["terms"]["noise_density"]["value"]
+print(f"σ(1 s) = {at_1s:.3e} rad/s, fitted N = {n_fit:.3e} rad/s/√Hz: "
+      f"{100 * (at_1s / n_fit - 1):+.0f} % (the bias-instability floor adds to it at 1 s)")
+assert 0 < at_1s / n_fit - 1 < 0.15

@@ -1,19 +1,38 @@
 # %% [markdown]
 # # Real IMU recordings: x-IMU3 and x-IMU
 #
-# Two short recordings from x-io devices (scikit-kinematics test data, BSD-3-Clause, shipped in
-# `imunav/data/real_imu`). There is no ground truth: the devices' onboard orientation is
-# their own sensor fusion (gyro + accelerometer, + magnetometer on the x-IMU), good for
-# checking conventions and short-window gyro integration, not for claiming accuracy.
-# Computation: `imunav.io.realdata`.
+# ## What you will learn
+#
+# - how to find out, from the data, what a device's stored quaternion means (element order,
+#   and which frame it rotates into which);
+# - how far a gyro-only integration gets from the device's own sensor fusion over short
+#   windows, and why the integration update matters at a low sample rate;
+# - how to find the stationary stretches of a recording, estimate sensor offsets there, and
+#   see what double-integrating the accelerometers does in one second;
+# - why a calibration must be judged on data it has not seen.
+#
+# **What you should know first:** notebook 00 (navigation from increments or rates), and the
+# idea of a sensor bias (notebook 05).
+#
+# **Scope.** Two short recordings from x-io devices (scikit-kinematics test data,
+# BSD-3-Clause, shipped in `imunav/data/real_imu`). There is no ground truth: the devices'
+# onboard orientation is their own fusion (gyro + accelerometer, + magnetometer on the x-IMU),
+# good for checking conventions and short-window gyro integration, not for claiming accuracy.
+# The navigation is unaided on a flat, non-rotating Earth; for these MEMS gyros the Earth's
+# rotation is far below the offsets they show at rest (printed in §3), so it changes nothing
+# here. Computation: `imunav.analysis.recordings` (the readers are in `imunav.io.realdata`).
 
 # %%
 import matplotlib.pyplot as plt
 import numpy as np
+from IPython.display import Markdown
 from ipywidgets import FloatSlider, interact
 
 from imunav.analysis import recordings as R
+from imunav.earth import OMEGA_E as OMEGA_EARTH
+from imunav.plotting import figure, name, styled, use_book_style
 
+use_book_style()
 SEED = 0
 
 # %%
@@ -23,7 +42,9 @@ for rec in (x3, x1):
     s = rec.signals
     print(f"{rec.meta['device']:7s}: {len(s)} samples at {s.rate:.2f} Hz, {s.t[-1]:.1f} s; "
           f"|f| at start {np.linalg.norm(s.accel[:20].mean(0)):.3f} m/s²; "
-          f"max |ω| {np.degrees(np.abs(s.gyro)).max():.0f}°/s")
+          f"max |ω| {np.degrees(np.abs(s.gyro)).max():.0f}°/s in one axis, "
+          f"{np.degrees(np.linalg.norm(s.gyro, axis=1)).max():.0f}°/s in norm, "
+          f"{np.degrees(np.linalg.norm(s.gyro, axis=1)).max() / s.rate:.0f}° per sample at most")
 
 # %% [markdown]
 # Both devices read about +g on their z axis when level: their body z axis points **up**
@@ -32,9 +53,16 @@ for rec in (x3, x1):
 # when reading raw plots.
 #
 # ## 1. What do the device quaternions mean? (checked, not assumed)
-# For each reading of the stored quaternion (element order; sensor→earth `q_nb` or
-# earth→sensor `q_bn`), compare the relative rotation it reports over 2 s windows with the
-# gyro's; the median disagreement (deg):
+# A stored quaternion $q(t)$ can be read four ways: elements in the order $[w, x, y, z]$ or
+# $[x, y, z, w]$, rotating sensor vectors into the earth frame ($q_{nb}$) or the reverse
+# ($q_{bn}$). Only the right reading makes the rotation it reports between two times agree
+# with the gyro's: for $q_{nb}$ the body-frame relative rotation over a window is
+#
+# $$ \Delta q = q(t_0)^{*} \otimes q(t_1) \;\approx\; \exp\!\Big(\tfrac12\!\int_{t_0}^{t_1}\!\boldsymbol\omega_b\,dt\Big)
+#    \quad(\text{to first order in the window}), $$
+#
+# so for each reading we compare $\Delta q$ with the gyro's own integral over 2 s windows; the
+# median disagreement (deg):
 
 # %%
 for rec in (x3, x1):
@@ -43,46 +71,74 @@ for rec in (x3, x1):
     print(f"{rec.meta['device']:7s}:", {k: round(v, 1) for k, v in c.items()}, "→", best)
 
 # %% [markdown]
-# The x-IMU3 stores `[W, X, Y, Z]` rotating sensor vectors into its earth frame (imunav's
-# `q_nb`); the older x-IMU stores the earth relative to the sensor (`q_bn`), as x-io documents.
-# `R.device_as_q_nb` applies this.
+# The x-IMU3 stores $[w, x, y, z]$ rotating sensor vectors into its earth frame (imunav's
+# $q_{nb}$); the older x-IMU stores the earth relative to the sensor ($q_{bn}$), as x-io
+# documents. `R.device_as_q_nb` applies this.
 #
 # ## 2. Gyro-only orientation vs the onboard orientation over short windows
-# Each window starts from the device's attitude and integrates the gyro alone; median angle to
-# the device attitude at the window's end (deg), by algorithm:
+# Each window starts from the device's attitude and integrates the gyro alone; the median
+# angle to the device attitude at the window's end (deg), for three updates: the first-order
+# $q \leftarrow q + \tfrac12 q\otimes\boldsymbol\omega h$, the exponential of the mean rate, and
+# the sixth-order Magnus integrator (notebook 06):
 
 # %%
+gvd = {}
 for rec, start in ((x3, 1.0), (x1, 0.0)):
     for alg in ("first_order", "exact_exponential", "magnus6"):
-        r = R.gyro_vs_device(rec, algorithm=alg, start=start)
-        print(f"{rec.meta['device']:7s} {alg:18s}", {w: round(v, 2) for w, v in r.items()})
+        gvd[rec.meta["device"], alg] = r = R.gyro_vs_device(rec, algorithm=alg, start=start)
+        print(f"{rec.meta['device']:7s} {name('rates/' + alg):32s}", {w: round(v, 2) for w, v in r.items()})
+
+# %%
+d3, d1 = x3.meta["device"], x1.meta["device"]
+w = max(gvd[d3, "first_order"])
+Markdown(
+    f"On the {d3} (shaken hard, sampled at only {x3.signals.rate:.0f} Hz) the first-order update "
+    f"is {gvd[d3, 'first_order'][w] / gvd[d3, 'magnus6'][w]:.1f} times as far from the device "
+    f"after {w:g} s as the Magnus update ({gvd[d3, 'first_order'][w]:.1f}° vs "
+    f"{gvd[d3, 'magnus6'][w]:.1f}°); the remaining {gvd[d3, 'magnus6'][w]:.1f}° is what separates "
+    f"a {x3.signals.rate:.0f} Hz gyro integration from the device's fusion. On the {d1} "
+    f"({x1.signals.rate:.0f} Hz) the three updates agree with each other to "
+    f"{max(abs(gvd[d1, a][w] - gvd[d1, 'magnus6'][w]) for a in ('first_order', 'exact_exponential')):.2f}° "
+    f"and drift away from the device as the window grows "
+    f"({gvd[d1, 'magnus6'][min(gvd[d1, 'magnus6'])]:.1f}° at {min(gvd[d1, 'magnus6']):g} s, "
+    f"{gvd[d1, 'magnus6'][w]:.1f}° at {w:g} s): the device's fusion is correcting its own gyro, "
+    "so its orientation is not a gyro-only reference.")
 
 # %% [markdown]
-# On the x-IMU3 (shaken at up to ≈850°/s in norm but sampled at only 50 Hz, 17° per sample) the
-# first-order update is twice as far from the device as the exponential or Magnus updates;
-# the remaining 2–3° is what separates a 50 Hz gyro integration from the device's fusion. On
-# the x-IMU (256 Hz) all updates agree with each other and drift away from the device
-# roughly linearly with the window (1.6° at 0.25 s, 7° at 2 s): the device's fusion is
-# correcting its own gyro, so its orientation is not a gyro-only reference.
-#
 # ## 3. Static segments and bias estimation
+# A stretch is *static* where, over every 0.5 s window in it, each gyro axis spreads by less
+# than 3°/s and $|\boldsymbol f|$ stays within 3 % of $g$. There the sensors' true inputs are
+# known — $\boldsymbol\omega_b = 0$ and $\boldsymbol f_b = -C_{bn}\,\boldsymbol g_n$ — so their
+# means are the offsets:
+#
+# $$ \hat{\boldsymbol b}_g = \frac1n\sum_{i}\boldsymbol\omega_i, \qquad
+#    \hat{\boldsymbol b}_a = \frac1n\sum_{i}\big(\boldsymbol f_i + C_{bn}\,\boldsymbol g_n\big). $$
 
 # %%
 s3 = x3.signals
 segs = R.static_segments(s3)
 print("x-IMU3 static segments (s):", [(round(a / s3.rate, 2), round(b / s3.rate, 2)) for a, b in segs])
 a, b = max(segs, key=lambda ab: ab[1] - ab[0])
-print("gyro bias over it (deg/s):", np.round(np.degrees(s3.gyro[a:b].mean(0)), 3))
+bias = s3.gyro[a:b].mean(0)
+print("gyro bias over it (deg/s):", np.round(np.degrees(bias), 3))
+print(f"largest gyro offset {np.degrees(np.abs(bias).max()) * 3600:.0f} °/h; the Earth's rotation "
+      f"{np.degrees(OMEGA_EARTH) * 3600:.1f} °/h")
 print("x-IMU static segments:", R.static_segments(x1.signals),
-      "— hand-held throughout (gyro spread ≥ 5°/s in every 0.5 s window)")
+      "— hand-held throughout (gyro spread ≥ 3°/s in every 0.5 s window)")
 
 # %% [markdown]
 # ## 4. Double-integrating the accelerometers
-# Over the x-IMU3's static second the true position stays at zero, so whatever the navigation
-# produces is drift. Over the 1.3 s there is, it is fitted as `c₂t² + c₃t³` (a residual
-# accelerometer offset, and a gyro bias tilting gravity into the horizontal); the fit says what
-# the data hold and nothing beyond them — what a MEMS IMU does over minutes is the question
-# `imunav assess` answers from its error model, not an extrapolation of 1.3 s.
+# Over the x-IMU3's static stretch the true position stays at zero, so whatever the
+# navigation produces is drift. Two offsets explain its shape: a residual accelerometer
+# offset $b_a$ integrates twice into $\tfrac12 b_a t^2$, and a gyro offset $b_g$ tilts the
+# attitude by $b_g t$, which leaks gravity into the horizontal and integrates into
+# $\tfrac16 g\,b_g t^3$:
+#
+# $$ |\boldsymbol p(t)| \approx c_2 t^2 + c_3 t^3, \qquad c_2 = \tfrac12 b_a, \quad c_3 = \tfrac16 g\, b_g . $$
+#
+# The fit says what the data hold and nothing beyond them — what a MEMS IMU does over minutes
+# is the question `imunav assess` answers from its error model (notebook 05), not an
+# extrapolation of one second.
 
 # %%
 raw = R.drift_from_rest(s3, a, b)
@@ -93,41 +149,70 @@ print(f"raw: drift after {raw['t'][-1]:.2f} s = {raw['drift'][-1] * 1e3:.1f} mm;
 # **Calibration judged on data it has not seen.** Estimating the offsets on the same samples
 # the drift is measured on would flatter the calibration (it would fit its own noise). So the
 # static stretch is split: offsets are estimated on the first part and the navigation is
-# judged on the second, from rest, raw and calibrated:
+# judged on the second, from rest, raw and calibrated. Where to split is a trade: a longer
+# estimate is less noisy, but leaves a shorter stretch to judge. Four splits side by side:
 
 # %%
-split = (a + b) // 2
-h = R.holdout_bias(s3, a, b, split)
-print(f"offsets estimated over {h['estimation_s']:.2f} s: gyro "
-      f"{np.round(np.degrees(h['gyro_bias_est']), 3)} °/s")
-print(f"held-out {h['test_s']:.2f} s: drift raw {h['raw']['final'] * 1e3:.2f} mm, "
-      f"calibrated {h['out_of_sample']['final'] * 1e3:.2f} mm")
+splits = (0.3, 0.5, 0.7, 0.9)
+held = {}
+for sp in splits:
+    held[sp] = R.holdout_bias(s3, a, b, a + int(round(sp * s3.rate)))
+    hh = held[sp]
+    print(f"split at {sp:.1f} s: estimate over {hh['estimation_s']:.2f} s, judged over "
+          f"{hh['test_s']:.2f} s: drift raw {hh['raw']['final'] * 1e3:.2f} mm, calibrated "
+          f"{hh['out_of_sample']['final'] * 1e3:.2f} mm")
 
+# %% tags=["hide-input"]
+fig, axs = figure(2, 2, height=4.8, sharex=True, sharey=True)
+for ax, sp in zip(axs.flat, splits, strict=True):
+    hh = held[sp]
+    ax.plot(hh["raw"]["t"], hh["raw"]["drift"] * 1e3, **styled("measured", label="raw"))
+    ax.plot(hh["out_of_sample"]["t"], hh["out_of_sample"]["drift"] * 1e3,
+            **styled("estimate", ls="-", label="calibrated on the first part"))
+    ax.set(title=f"{hh['estimation_s']:.2f} s estimate, {hh['test_s']:.2f} s judged",
+           xlabel="t from the split (s)", ylabel="position drift (mm)")
+    ax.label_outer()
+axs[0, 0].legend(loc="upper left")
+plt.show()
 
+# %%
+best = min(splits, key=lambda sp: held[sp]["out_of_sample"]["final"])
+Markdown(
+    "On data it has not seen, the calibration removes most of the drift at every split: "
+    + "; ".join(f"{held[sp]['raw']['final'] * 1e3:.1f} → "
+                f"{held[sp]['out_of_sample']['final'] * 1e3:.1f} mm with a "
+                f"{held[sp]['estimation_s']:.2f} s estimate" for sp in splits)
+    + ". The recording holds a single static stretch (the x-IMU none at all: it is hand-held "
+    "throughout), so the estimate and the judgement come from two halves of one stretch — a bias "
+    "that wanders between separate stops would be judged more harshly.")
+
+# %% [markdown]
+# With a kernel, move the split: the figure below is the widget's starting state (the whole
+# stretch with its fit, and the held-out part after a 0.66 s estimate); the widget under it
+# redraws it.
+
+# %% tags=["hide-input"]
 def show_split(split_s=0.66):
     """Drift over the held-out part for a split at ``split_s`` seconds into the stretch."""
     k = a + int(round(split_s * s3.rate))
     hh = R.holdout_bias(s3, a, b, min(max(k, a + 5), b - 5))
-    fig, axs = plt.subplots(1, 2, figsize=(12, 3.8))
-    axs[0].plot(raw["t"], raw["drift"] * 1e3, label="whole stretch, raw")
+    fig, axs = figure(1, 2, height=3.0)
+    axs[0].plot(raw["t"], raw["drift"] * 1e3, **styled("measured", label="whole stretch, raw"))
     axs[0].plot(raw["t"], (raw["c2"] * raw["t"] ** 2 + raw["c3"] * raw["t"] ** 3) * 1e3, "k:",
-                label="fit c₂t² + c₃t³ (within the data only)")
+                label="fit c₂t² + c₃t³")
     axs[0].axvspan(0, hh["estimation_s"], color="C2", alpha=0.12, label="estimation part")
     axs[0].set(xlabel="t (s)", ylabel="position drift (mm)", title="x-IMU3 at rest")
-    axs[0].legend(fontsize=8)
-    for name, lab in (("raw", "raw"), ("out_of_sample", "calibrated on the first part")):
-        axs[1].plot(hh[name]["t"], hh[name]["drift"] * 1e3, label=lab)
+    axs[0].legend(loc="upper left")
+    axs[1].plot(hh["raw"]["t"], hh["raw"]["drift"] * 1e3, **styled("measured", label="raw"))
+    axs[1].plot(hh["out_of_sample"]["t"], hh["out_of_sample"]["drift"] * 1e3,
+                **styled("estimate", ls="-", label="calibrated"))
     axs[1].set(xlabel="t from the split (s)", ylabel="position drift (mm)",
-               title=f"held-out {hh['test_s']:.2f} s after a {hh['estimation_s']:.2f} s estimate")
-    axs[1].legend(fontsize=8)
-    plt.tight_layout()
+               title=f"held out {hh['test_s']:.2f} s after {hh['estimation_s']:.2f} s")
+    axs[1].legend(loc="upper left")
     plt.show()
 
 
 show_split()
-
-# %% [markdown]
-# In a live kernel, move the split (the figure above is its starting state):
 
 # %%
 # NBVAL_IGNORE_OUTPUT
@@ -135,16 +220,51 @@ _ = interact(show_split, split_s=FloatSlider(value=0.66, min=0.2, max=1.1, step=
                                              continuous_update=False, description="split (s)"))
 
 # %% [markdown]
-# The calibration removes most of the drift on data it has not seen (9 → 1 mm with a 0.4 s
-# estimate; 4.8 → 0.5 mm with 0.66 s). The recording holds a single static stretch (the x-IMU
-# none at all: it is hand-held throughout), so the estimate and the judgement come from two
-# halves of one stretch — a bias that wanders between separate stops would be judged more
-# harshly.
-#
-# ## CI hook
+# ## Checks run by the tests
 
 # %%
 c3 = R.device_quaternion_convention(x3)
 print(min(c3, key=c3.get))
 assert min(c3, key=c3.get) == "wxyz/q_nb"
+h = R.holdout_bias(s3, a, b, (a + b) // 2)
 assert h["out_of_sample"]["final"] < 0.3 * h["raw"]["final"]
+# the static stretch ends before the motion resumes: its last 0.1 s is as quiet as the rest
+tail = s3.gyro[b - int(0.1 * s3.rate):b]
+assert np.ptp(tail, axis=0).max() < np.radians(3.0)
+
+# %% [markdown]
+# ## Takeaways
+#
+# - A device's quaternion convention is a claim to check against its own gyro, not to assume.
+# - At a low sample rate and a high angular rate the attitude update matters: the first-order
+#   update falls well behind the exponential and Magnus updates.
+# - A static stretch gives the offsets; double-integrated, even small ones make millimetres of
+#   drift within a second — quadratically from the accelerometer, cubically from the gyro.
+# - Judge a calibration on data it has not seen.
+#
+# ## Exercises
+#
+# **Exercise 1.** The fit of §4 says $c_2 = \tfrac12 b_a$. What accelerometer offset does
+# $c_2$ imply, and how does it compare with the offsets the hold-out calibration estimated
+# (with the 0.5 s estimate)? Along which body axis is it?
+
+# %% tags=["hide-cell"] jupyter={"source_hidden": true, "outputs_hidden": true}
+# Solution
+ba_fit = 2 * raw["c2"]
+hh = held[0.5]
+ba_est = hh["accel_bias_est"]
+print(f"from c₂: {ba_fit * 1e3:.1f} mm/s²; estimated offsets (body axes): "
+      f"{np.round(ba_est * 1e3, 1)} mm/s², |b_a| = {np.linalg.norm(ba_est) * 1e3:.1f} mm/s², "
+      f"along body {'xyz'[np.argmax(np.abs(ba_est))]}")
+assert abs(ba_fit / np.linalg.norm(ba_est) - 1) < 0.1     # the same offset, seen two ways
+
+# %% [markdown]
+# **Exercise 2.** Which reading of the x-IMU's quaternion is *second* best, and by how much is
+# it worse than the best? What does that say about how distinct the four readings are?
+
+# %% tags=["hide-cell"] jupyter={"source_hidden": true, "outputs_hidden": true}
+# Solution
+c1 = R.device_quaternion_convention(x1)
+ranked = sorted(c1, key=c1.get)
+print(f"best {ranked[0]} ({c1[ranked[0]]:.1f}°), second {ranked[1]} ({c1[ranked[1]]:.1f}°)")
+assert c1[ranked[1]] > 3 * c1[ranked[0]]        # the readings are far apart: the test is sharp

@@ -13,6 +13,16 @@ and fail unless the figure under it changes.
 failed request (everything must be bundled), on a notebook page with fewer images than the
 notebook stores, or on math that MathJax did not render.
 
+*A stalled run* — the kernel idle, cells still pending, nothing run for 90 s — is a message whose
+wake-up was lost on the way (the same edge-triggered zmq file descriptors whose lost wake-ups
+``notebooks/run.py`` measured under nbclient; there the reply had been in the socket all along).
+Any new message on the notebook's own kernel connection wakes every hop again, so the suite
+*nudges*: it sends a ``kernel_info`` request through the page's own connection (JupyterLab is
+started with ``expose_app_in_browser``) and waits again; the server's view of the kernel
+(``/api/kernels``) is printed beside it. Only if two nudges do not help is the kernel restarted
+and the notebook run again — and that is reported as a retry. Stalls, nudges and retries are
+counted on the last lines.
+
 Servers are started and stopped by PID. The output ends ``N passed, 0 failed``; the exit status is
 1 if anything failed. Run: ``python tests/browser/run.py [--only NAME] [--skip-lab] [--skip-book]``.
 """
@@ -43,6 +53,7 @@ SHOTS = Path(tempfile.gettempdir()) / "imunav-browser"     # screenshots of fail
 SHOTS.mkdir(exist_ok=True)
 
 results: list[tuple[str, bool, str]] = []
+stalls = {"stalled": 0, "woken by a nudge": 0, "retried": 0}
 
 
 def report(name: str, ok: bool, detail: str = "") -> None:
@@ -96,7 +107,7 @@ STALL_S = 90                 # kernel idle, cells pending, nothing run for this 
 def _wait_idle(page, timeout: float) -> str:
     """Until every code cell has run (no ``[*]``/``[ ]`` prompt, kernel idle, three polls in a
     row): ``"done"``; ``"stalled"`` if the kernel sits idle with cells pending for ``STALL_S``
-    (a request the kernel never read, ipykernel#1554); ``"timeout"``."""
+    (a message whose wake-up was lost on the way: see the module docstring); ``"timeout"``."""
     t0 = time.time()
     calm, last_run, last_change = 0, -1, time.time()
     while time.time() - t0 < timeout:
@@ -121,6 +132,29 @@ def _wait_idle(page, timeout: float) -> str:
                 return "stalled"
         time.sleep(1.0)
     return "timeout"
+
+
+def _server_view(page) -> str:
+    """The Jupyter server's own view of the kernels (execution state, connections)."""
+    try:
+        ks = page.evaluate("""async () => (await (await fetch('/api/kernels')).json())
+            .map(k => k.execution_state + ', ' + k.connections + ' connection(s)')""")
+        return "; ".join(ks) or "no kernel"
+    except Exception as exc:   # noqa: BLE001 — a diagnosis only
+        return f"unknown ({type(exc).__name__})"
+
+
+def _nudge(page) -> str:
+    """A kernel_info request through the notebook's own kernel connection."""
+    return page.evaluate("""async () => {
+        const w = window.jupyterapp && window.jupyterapp.shell.currentWidget;
+        const k = w && w.sessionContext && w.sessionContext.session &&
+                  w.sessionContext.session.kernel;
+        if (!k) return 'no kernel connection to nudge';
+        const r = await Promise.race([k.requestKernelInfo().then(() => 'replied'),
+                                      new Promise(res => setTimeout(() => res('no reply'), 20000))]);
+        return 'kernel_info ' + r;
+    }""")
 
 
 def _image_srcs(area) -> list[str]:
@@ -218,9 +252,11 @@ def run_lab(browser, only: str | None) -> None:
     env["JUPYTERLAB_SETTINGS_DIR"] = str(settings)   # every cell in the DOM, no news pop-up
     lab = start([sys.executable, "-m", "jupyterlab", "--no-browser", "--allow-root",
                  f"--port={port}", "--ip=127.0.0.1", "--IdentityProvider.token=",
+                 "--LabApp.expose_app_in_browser=True",
                  "--ServerApp.password=", f"--ServerApp.root_dir={work}",
                  "--LabApp.news_url=None", "--LabApp.check_for_updates_class="
                  "jupyterlab.NeverCheckForUpdate"], cwd=work, env=env)
+    nudge_checked = False
     try:
         wait_http(f"http://127.0.0.1:{port}/lab")
         for nb in NOTEBOOKS:
@@ -245,8 +281,22 @@ def run_lab(browser, only: str | None) -> None:
                 page.locator(".lm-MenuBar-itemLabel", has_text="Run").first.click()
                 page.get_by_role("menuitem", name="Run All Cells", exact=True).click()
                 state = _wait_idle(page, RUN_TIMEOUT_S)
+                notes = []
+                for _ in range(2):
+                    if state != "stalled":
+                        break
+                    stalls["stalled"] += 1
+                    server = _server_view(page)
+                    nudged = _nudge(page)
+                    state = _wait_idle(page, RUN_TIMEOUT_S)
+                    woke = state != "stalled"
+                    stalls["woken by a nudge"] += woke
+                    notes.append(f"STALL: idle with cells pending (server: {server}); nudged "
+                                 f"({nudged}): {'it ran on' if woke else 'still stalled'}")
+                    print(f"      {name}: {notes[-1]}", flush=True)
                 retried = state == "stalled"
-                if retried:   # once: restart the kernel and run everything again from the start
+                if retried:   # two nudges did not help: restart the kernel, run everything again
+                    stalls["retried"] += 1
                     page.locator(".lm-MenuBar-itemLabel", has_text="Run").first.click()
                     page.get_by_role("menuitem", name="Restart Kernel and Run All Cells…").click()
                     page.locator(".jp-Dialog-button.jp-mod-accept").click()
@@ -268,11 +318,18 @@ def run_lab(browser, only: str | None) -> None:
                           f"{len(errors)} error outputs, {unrun} cells not run")
                 if errors:
                     detail += f" (first: {errors[0]['ename']}: {errors[0]['evalue'][:120]})"
+                if notes:
+                    detail += "; " + "; ".join(notes)
                 if retried:
-                    detail += "; the kernel stalled idle with cells pending once: restarted and re-run"
+                    detail += "; RETRIED: the kernel was restarted and the notebook run again"
                 if not finished:
                     detail += f"; {state} after the {'second' if retried else 'first'} Run All"
                 report(f"lab {name} run-all", ok, detail)
+                if ok and not nudge_checked:   # the remedy itself works (once per suite)
+                    nudge_checked = True
+                    r = _nudge(page)
+                    report("lab nudge (kernel_info through the page's connection)",
+                           r == "kernel_info replied", r)
                 if ok:
                     _check_widgets(page, name)
             except Exception as exc:   # noqa: BLE001 — report and go on with the next notebook
@@ -375,6 +432,7 @@ def main() -> int:
             browser.close()
     failed = sum(1 for _, ok, _ in results if not ok)
     print(f"\nbrowser suite: {time.time() - t0:.0f} s")
+    print("stalls: " + ", ".join(f"{v} {k}" for k, v in stalls.items()))
     print(f"{len(results) - failed} passed, {failed} failed")
     return 1 if failed else 0
 

@@ -1,0 +1,544 @@
+"""The one figure style of imunav, and the figure check (re-exported by :mod:`imunav.plotting`,
+where the plot functions are; here, in the bottom layer, so that every module that draws — the
+papers' too — uses the same names and colours).
+
+**Style.** Call :func:`use_book_style` once (the first cell of every notebook does): figures are
+stored at 150 dpi, their text at 8–10 pt, and they are displayed at their size in inches (96 CSS
+pixels per inch), so a figure no wider than the book's text column (:data:`MAX_WIDTH_IN`, 7 in)
+keeps its text at its size on the page. Every named thing — an algorithm, an error term, an IMU
+preset, truth and estimate, a paper's scheme — has one readable name (:func:`name`) and one colour
+and line style (:func:`style`; :func:`styled` adds the label) that hold in every figure::
+
+    ax.plot(t, err, **styled("increments/coning2"))      # colour, line style, "two-sample coning"
+
+Internal identifiers (``poly8_m6``, ``gyro.noise_density``, ``quat_amended``) never reach a title,
+a label or a legend: :func:`name` gives the words.
+
+**Figure check.** :func:`check_figure` lists what keeps a reader from trusting a figure at a glance:
+a labelled line hidden under another (at least 80 % of its drawn pixels under later-drawn ones,
+unless a label or the title says the lines coincide), a legend with more than
+:data:`MAX_LEGEND` entries, two units on one axis, an internal id in a title, label, legend or
+tick label, text below :data:`MIN_FONT_PT`, a figure wider than :data:`MAX_WIDTH_IN` or stored
+below :data:`MIN_DPI`, a panel more than 10:1, a fixed axis range the data fill less than a third
+of. :func:`install_figure_check` makes ``plt.show()`` raise :class:`FigureCheckError` on any of
+them (the notebook tests and ``make notebooks`` install it in every kernel).
+
+May import: nothing in imunav (numpy; matplotlib and IPython lazily, inside the functions).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+import numpy as np
+
+# ------------------------------------------------------------ the style
+
+#: The book's text column (in): a figure no wider is shown at its size, so 8 pt stays 8 pt.
+MAX_WIDTH_IN = 7.0
+#: Resolution figures are stored at (dots per inch).
+MIN_DPI = 150
+#: Smallest text on a figure (pt): tick labels, legends, labels, titles.
+MIN_FONT_PT = 8.0
+#: Most legend entries per legend: more is a table or small multiples.
+MAX_LEGEND = 8
+#: Default figure width (in), a little under the column.
+WIDTH_IN = 6.5
+
+#: rcParams of :func:`use_book_style`.
+BOOK_RC = {
+    "figure.dpi": MIN_DPI, "savefig.dpi": MIN_DPI, "figure.figsize": (WIDTH_IN, 3.4),
+    "figure.facecolor": "white", "savefig.facecolor": "white", "savefig.bbox": "tight",
+    "font.size": 9.0, "axes.titlesize": 9.5, "axes.labelsize": 9.0, "figure.titlesize": 10.0,
+    "xtick.labelsize": 8.5, "ytick.labelsize": 8.5, "legend.fontsize": 8.0,
+    "legend.title_fontsize": 8.0, "legend.framealpha": 0.85, "lines.linewidth": 1.5,
+    "axes.grid": True, "grid.linewidth": 0.4, "grid.alpha": 0.5, "axes.axisbelow": True,
+}
+
+#: CSS pixels per inch of a stored figure's display size (the browser's inch).
+_CSS_PX_PER_IN = 96
+
+
+@dataclass(frozen=True)
+class Thing:
+    """A named thing of the book: its words, its colour and its line style in every figure."""
+
+    name: str
+    colour: str
+    linestyle: str = "-"
+
+
+def _things() -> dict[str, Thing]:
+    t: dict[str, Thing] = {}
+    # Algorithms, as "kind/name" (the registry's ids): one colour each, distinct within each
+    # group that is drawn together (rate samples; classic increments; offline high order).
+    for key, words, c in (
+        ("rates/first_order", "first-order update (rates)", "#BE0032"),
+        ("rates/exact_exponential", "mean-rate exponential (rates)", "#E68FAC"),
+        ("rates/magnus4", "Magnus-4 (rates)", "#8DB600"),
+        ("rates/magnus6", "Magnus-6 (rates)", "#604E97"),
+        ("increments/first_order", "small-angle update (increments)", "#654522"),
+        ("increments/exact_exponential", "exponential of Δθ, no coning term", "#848482"),
+        ("increments/coning2", "two-sample coning", "#E25822"),
+        ("increments/ignagni2", "Ignagni 2-sample", "#F6A600"),
+        ("increments/miller3", "Miller 3-sample", "#875692"),
+        ("increments/ignagni3", "Ignagni 3-sample", "#B3446C"),
+        ("increments/ignagni4", "Ignagni 4-sample", "#008856"),
+        ("increments/poly6_m4", "6-node fit + Magnus-4", "#56B4E9"),
+        ("increments/poly8_m6", "8-node fit + Magnus-6", "#0067A5"),
+    ):
+        t[key] = Thing(words, c)
+    # Sensor error terms, "triad.term": the colour is the term's, the line style the triad's
+    # (gyro solid, accelerometer dashed).
+    terms = {"noise_density": ("white noise", "#0067A5"), "bias": ("turn-on bias", "#BE0032"),
+             "bias_instability": ("bias instability", "#008856"),
+             "random_walk": ("random walk", "#875692"),
+             "scale_factor": ("scale factor", "#F6A600"),
+             "misalignment": ("misalignment", "#882D17"),
+             "g_sensitivity": ("g-sensitivity", "#E68FAC"),
+             "resolution": ("resolution (quantisation)", "#848482"),
+             "bandwidth": ("anti-alias filter", "#56B4E9"), "range": ("range (clipping)", "#654522")}
+    for triad, words, ls in (("gyro", "gyro", "-"), ("accel", "accelerometer", "--")):
+        for term, (w, c) in terms.items():
+            if term == "random_walk":
+                w = "rate random walk" if triad == "gyro" else "acceleration random walk"
+            t[f"{triad}.{term}"] = Thing(f"{words} {w}", c, ls)
+    # The Allan-fit terms (either triad): white noise N, bias instability B, random walk K.
+    for term, w in (("noise_density", "white noise N"), ("bias_instability", "bias instability B"),
+                    ("random_walk", "random walk K")):
+        t[term] = Thing(w, terms[term][1])
+    # IMU presets (imunav.sensors.presets).
+    for key, words, c in (("ideal", "ideal IMU", "#848482"), ("BNO055", "BNO055", "#E25822"),
+                          ("MPU-6050", "MPU-6050", "#BE0032"), ("BMI088", "BMI088", "#875692"),
+                          ("ADIS16470", "ADIS16470", "#0067A5"),
+                          ("tactical", "tactical-grade IMU", "#008856")):
+        t[key] = Thing(words, c)
+    # Roles.
+    t["truth"] = Thing("truth", "black")
+    t["estimate"] = Thing("navigated", "#E25822", "--")
+    t["measured"] = Thing("measured", "#848482")
+    t["tolerance"] = Thing("tolerance", "black", "--")
+    t["montecarlo"] = Thing("Monte Carlo", "#56B4E9")
+    t["covariance"] = Thing("covariance analysis", "#B3446C", "--")
+    for ax, c in zip("xyz", ("#BE0032", "#008856", "#0067A5"), strict=True):
+        t[f"axis.{ax}"] = Thing(f"{ax} axis", c)
+    t["rates"] = Thing("rate samples", "#848482", "--")
+    t["increments"] = Thing("increments Δθ, Δv", "#0067A5")
+    # The papers' schemes (imunav.papers): Marusenkova's attitude schemes, Plaksiy's updates.
+    for key, words, c in (("dcm", "classic DCM", "#0067A5"), ("quat", "classic quaternion", "#E25822"),
+                          ("quat_amended", "amended quaternion (eq. 36)", "#008856"),
+                          ("dcm_amended", "exact DCM (not in the paper)", "#875692"),
+                          ("series4", "4th-order series update", "#F6A600"),
+                          ("exact", "exact update", "#0067A5")):
+        t[key] = Thing(words, c)
+    for key in ("fig1a", "fig1b"):
+        t[key] = Thing(f"Fig. 1{key[-1]} motion", "#0067A5")
+    return t
+
+
+#: Every named thing: ``THINGS[id]`` → :class:`Thing`. Algorithms are ``"kind/name"``, sensor
+#: errors ``"triad.term"``; bare algorithm names (``"poly8_m6"``) resolve through :func:`name`.
+THINGS: dict[str, Thing] = _things()
+
+_BARE = {}
+for _k in THINGS:
+    if "/" in _k:
+        _BARE.setdefault(_k.split("/")[1], []).append(_k)
+
+
+def _key(thing: str) -> str:
+    if thing in THINGS:
+        return thing
+    if thing in _BARE and len(_BARE[thing]) == 1:
+        return _BARE[thing][0]
+    if thing in _BARE:     # first_order, exact_exponential: say which kind
+        raise KeyError(f"{thing!r} names an algorithm of both kinds: use one of {_BARE[thing]}")
+    raise KeyError(f"no style for {thing!r}: add it to imunav.plotting.THINGS (known: "
+                   f"{', '.join(sorted(THINGS))})")
+
+
+def algorithm_id(kind: str, algorithm: str) -> str:
+    """The id of an algorithm of the registry: ``"increments/poly8_m6"``."""
+    return f"{kind}/{algorithm}"
+
+
+def name(thing: str) -> str:
+    """The readable name of an internal id (an algorithm ``"increments/poly8_m6"`` or
+    ``"poly8_m6"``, an error term ``"gyro.noise_density"``, a preset, a paper's scheme); a string
+    that is not an id is returned unchanged."""
+    try:
+        return THINGS[_key(thing)].name
+    except KeyError:
+        return thing
+
+
+def colour(thing: str) -> str:
+    """The colour of ``thing`` in every figure (KeyError for a thing without one)."""
+    return THINGS[_key(thing)].colour
+
+
+def style(thing: str, **kw) -> dict:
+    """``color`` and ``linestyle`` of ``thing`` for ``ax.plot`` (keywords override)."""
+    t = THINGS[_key(thing)]
+    for short, full in (("ls", "linestyle"), ("c", "color")):
+        if short in kw:
+            kw[full] = kw.pop(short)
+    return {"color": t.colour, "linestyle": t.linestyle, **kw}
+
+
+def styled(thing: str, **kw) -> dict:
+    """:func:`style` plus ``label=name(thing)``: ``ax.plot(x, y, **styled("truth"))``."""
+    return {"label": name(thing), **style(thing, **kw)}
+
+
+def use_book_style() -> None:
+    """The book's figure style for this session: :data:`BOOK_RC`, and in IPython figures stored
+    as PNG at their dpi with their display size (96 CSS px per inch) in the output's metadata,
+    so a reader sees 8 pt as 8 pt in JupyterLab and in the book."""
+    import matplotlib
+    import matplotlib.pyplot as plt
+
+    plt.close(plt.figure())   # loads the backend now: the inline one registers its formatter
+    matplotlib.rcParams.update(BOOK_RC)
+    try:
+        from IPython import get_ipython
+    except ImportError:       # pragma: no cover — IPython ships with the notebooks extra
+        return
+    ip = get_ipython()
+    if ip is None:
+        return
+    from matplotlib.figure import Figure
+
+    ip.display_formatter.formatters["image/png"].for_type(Figure, _png_with_size)
+
+
+def _png_with_size(fig):
+    import io
+    import struct
+
+    if not fig.axes and not fig.lines and not fig.texts and not fig.images:
+        return None           # an empty figure is not shown (the inline backend's rule)
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=fig.dpi, bbox_inches="tight", facecolor="white")
+    data = buf.getvalue()
+    w, h = struct.unpack(">II", data[16:24])
+    px = _CSS_PX_PER_IN / fig.dpi
+    return data, {"width": round(w * px), "height": round(h * px)}
+
+
+def figure(nrows: int = 1, ncols: int = 1, width: float = WIDTH_IN, height: float | None = None,
+           **kw):
+    """``plt.subplots`` at the book's size (default width :data:`WIDTH_IN`; height 2.6 in per
+    row + 0.6) with constrained layout. Returns ``(fig, axes)``."""
+    import matplotlib.pyplot as plt
+
+    height = height if height is not None else 0.6 + 2.6 * nrows
+    kw.setdefault("layout", "constrained")
+    return plt.subplots(nrows, ncols, figsize=(width, height), **kw)
+
+
+#: Up to 20 colours no two alike: matplotlib's ten, then ten more of clearly other hues.
+DISTINCT = ("C0", "C1", "C2", "C3", "C4", "C5", "C6", "C7", "C8", "C9", "black", "gold",
+            "lime", "navy", "magenta", "teal", "salmon", "olive", "maroon", "slateblue")
+
+
+def series_style(i: int) -> dict:
+    """Colour and marker for the ``i``-th point series of one axes (colours unique up to 20
+    series, then the marker shape changes), for series that are not named things (a sweep's
+    values). For dense curves use only ``["color"]``."""
+    return {"color": DISTINCT[i % len(DISTINCT)],
+            "marker": ("o", "s", "^", "D")[(i // len(DISTINCT)) % 4]}
+
+
+def rate_ticks(ax, rates) -> None:
+    """Label a log x axis at the sample rates themselves (no overlapping minor labels)."""
+    ax.set_xticks(list(rates), [f"{r:g}" for r in rates])
+    ax.minorticks_off()
+
+
+# ------------------------------------------------------------ the figure check
+
+class FigureCheckError(AssertionError):
+    """A figure failed :func:`check_figure` (raised by ``plt.show`` once installed)."""
+
+
+#: The words that excuse a line under another: the text says they coincide.
+_SAYS_COINCIDE = re.compile(r"coincid|identical|overlap|≡|same as", re.I)
+_HIDDEN_FRACTION = 0.8
+
+_ATOM = r"(?:(?:µ|u|m|k|M|n)?(?:m|s|rad|g|Hz|N)|min|h|deg|°|K|%|ppm|dB)"
+_UNIT1 = rf"√?\(?{_ATOM}(?:[²³]|\^-?\d+)?\)?"
+_UNIT = re.compile(rf"^{_UNIT1}(?:\s*[/·*×]\s*{_UNIT1})*$")
+_PAREN = re.compile(r"\(([^()]*(?:\([^()]*\)[^()]*)*)\)")
+_MATH = re.compile(r"\$[^$]*\$")
+_SNAKE = re.compile(r"(?<![\w\\])[A-Za-z][A-Za-z0-9]*(?:_[A-Za-z0-9]+)+(?!\w)")
+_DOTTED = re.compile(r"(?<![\w.])(?:gyro|accel)\.[a-z_]+")
+
+
+def _internal_ids() -> set[str]:
+    ids = set()
+    for k in THINGS:
+        for part in re.split(r"[/.]", k):
+            if name(part) != part or part in _BARE:
+                if re.search(r"[_\d]", part) or part.islower():
+                    ids.add(part)
+    return ids - {"rates", "increments", "truth", "estimate", "measured", "tolerance", "ideal",
+                  "tactical", "exact", "covariance", "montecarlo", "axis", "x", "y", "z"}
+
+
+_IDS = _internal_ids()
+_ID_WORD = re.compile(r"(?<![\w-])(" + "|".join(sorted(map(re.escape, _IDS), key=len,
+                                                        reverse=True)) + r")(?![\w-])")
+
+
+def internal_ids_in(text: str) -> list[str]:
+    """The internal identifiers in ``text`` (outside ``$math$``): snake_case words, sensor-term
+    ids, and the ids of :data:`THINGS` (``coning2``, ``dcm``, ``series4``)."""
+    plain = _MATH.sub(" ", text)
+    found = _SNAKE.findall(plain) + _DOTTED.findall(plain) + _ID_WORD.findall(plain)
+    return list(dict.fromkeys(found))
+
+
+def units_in(label: str) -> str | None:
+    """The unit a label states in its last parenthesis (``"velocity (m/s)"`` → ``"m/s"``),
+    normalised (deg → °, ^2 → ²); None without one."""
+    for content in reversed(_PAREN.findall(_MATH.sub(" ", label))):
+        u = content.strip()
+        if u and _UNIT.match(u):
+            u = u.replace("deg", "°").replace("^2", "²").replace("^3", "³").replace("ug", "µg")
+            return re.sub(r"\s+", "", u)
+    return None
+
+
+def _artist_mask(artist, renderer_size, dpi, opaque):
+    """The pixels ``artist`` draws: any (``opaque`` False) or those it covers (alpha > ½)."""
+    from matplotlib.backends.backend_agg import RendererAgg
+
+    r = RendererAgg(*renderer_size, dpi)
+    artist.draw(r)
+    alpha = np.asarray(r.buffer_rgba())[:, :, 3]
+    if not opaque:
+        return alpha > 20
+    m = alpha > 127
+    grown = m.copy()            # one pixel more on every side: the lower line's antialiased edge
+    grown[1:] |= m[:-1]
+    grown[:-1] |= m[1:]
+    grown[:, 1:] |= m[:, :-1]
+    grown[:, :-1] |= m[:, 1:]
+    return grown
+
+
+def _drawn_in_order(ax):
+    from matplotlib.collections import Collection
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    kids = [a for a in ax.get_children()
+            if isinstance(a, (Line2D, Collection, Patch)) and a.get_visible()
+            and a is not ax.patch and a not in ax.spines.values()]
+    return sorted(kids, key=lambda a: a.get_zorder())
+
+
+def _label(a) -> str | None:
+    lab = a.get_label()
+    return None if not lab or lab.startswith("_") else lab
+
+
+def _hidden_lines(fig, ax, where) -> list[str]:
+    from matplotlib.lines import Line2D
+
+    arts = _drawn_in_order(ax)
+    lower = [i for i, a in enumerate(arts) if isinstance(a, Line2D) and _label(a)
+             and len(a.get_xdata(orig=False)) > 0]
+    if not lower:
+        return []
+    size = (int(fig.bbox.width), int(fig.bbox.height))
+    masks = {}
+
+    def mask(i, opaque=True):
+        if (i, opaque) not in masks:
+            masks[i, opaque] = _artist_mask(arts[i], size, fig.dpi, opaque)
+        return masks[i, opaque]
+
+    out = []
+    title = ax.get_title() + " " + (ax.get_legend().get_title().get_text()
+                                     if ax.get_legend() else "")
+    for i in lower:
+        m = mask(i, opaque=False)
+        n = int(m.sum())
+        if n == 0:
+            x = np.asarray(arts[i].get_xdata(orig=False), float)
+            if np.isfinite(x).any():
+                out.append(f"{where}: the line '{_label(arts[i])}' draws nothing inside the axes")
+            continue
+        above = range(i + 1, len(arts))
+        if not above:
+            continue
+        cover = np.zeros_like(m)
+        best, best_n = None, 0
+        for j in above:
+            k = int((m & mask(j)).sum())
+            if k:
+                cover |= mask(j)
+                if k > best_n:
+                    best, best_n = j, k
+        frac = (m & cover).sum() / n
+        if frac < _HIDDEN_FRACTION:
+            continue
+        lab = _label(arts[i])
+        up = _label(arts[best]) or "an unlabelled artist"
+        if _SAYS_COINCIDE.search(lab + " " + up + " " + title):
+            continue
+        out.append(f"{where}: the line '{lab}' is hidden under '{up}' ({100 * frac:.0f} % of "
+                   "its pixels covered): draw it apart, merge the two, or say they coincide")
+    return out
+
+
+def _texts(fig, ax=None):
+    """(what, Text) of everything written on a figure or one of its axes."""
+    items = []
+    if ax is None:
+        if fig._suptitle is not None:
+            items.append(("suptitle", fig._suptitle))
+        items += [("figure text", t) for t in fig.texts if t is not fig._suptitle]
+        for leg in fig.legends:
+            items += [("legend", t) for t in leg.get_texts()] + [("legend title", leg.get_title())]
+        return items
+    items += [("title", ax.title), ("title", ax._left_title), ("title", ax._right_title),
+              ("x label", ax.xaxis.label), ("y label", ax.yaxis.label)]
+    items += [("text", t) for t in ax.texts]
+    for axis, what in ((ax.xaxis, "x tick label"), (ax.yaxis, "y tick label")):
+        items += [(what, t) for t in axis.get_ticklabels(which="both")]
+    leg = ax.get_legend()
+    if leg is not None:
+        items += [("legend", t) for t in leg.get_texts()] + [("legend title", leg.get_title())]
+    return [(w, t) for w, t in items if t.get_visible() and t.get_text().strip()]
+
+
+def _words(i: str) -> str:
+    return f"write {name(i)!r}" if name(i) != i else "write it in words: imunav.core.style.name"
+
+
+def check_figure(fig) -> list[str]:
+    """Every defect of ``fig`` that keeps a reader from trusting it at a glance, one line each
+    (empty: the figure passes). See the module docstring for the rules."""
+    fig.draw_without_rendering()
+    renderer = fig.canvas.get_renderer()
+    out = []
+    num = getattr(fig, "number", None)
+    tag = f"figure {num}" if num is not None else "figure"
+    width = fig.get_tightbbox(renderer).width
+    if width > MAX_WIDTH_IN + 0.05:
+        out.append(f"{tag}: {width:.1f} in wide (at most {MAX_WIDTH_IN:g} in, the book's "
+                   "column: wider figures are shrunk and their text with them)")
+    if fig.dpi < MIN_DPI:
+        out.append(f"{tag}: stored at {fig.dpi:g} dpi (at least {MIN_DPI}: "
+                   "imunav.plotting.use_book_style())")
+    small = {}
+    for what, t in _texts(fig):
+        if t.get_fontsize() < MIN_FONT_PT:
+            small.setdefault(what, t.get_fontsize())
+        for i in internal_ids_in(t.get_text()):
+            out.append(f"{tag}: internal id {i!r} in the {what} {t.get_text()!r} ({_words(i)})")
+    for leg in fig.legends:
+        if len(leg.get_texts()) > MAX_LEGEND:
+            out.append(f"{tag}: figure legend with {len(leg.get_texts())} entries "
+                       f"(at most {MAX_LEGEND}: small multiples or a table)")
+    fw, fh = fig.get_size_inches()
+    for n, ax in enumerate(fig.axes):
+        if not ax.get_visible() or not ax.axison and not ax.lines:
+            continue
+        where = f"{tag}, axes {n + 1}" + (f" '{ax.get_title()}'" if ax.get_title() else "")
+        for what, t in _texts(fig, ax):
+            if t.get_fontsize() < MIN_FONT_PT:
+                small.setdefault(what, t.get_fontsize())
+            for i in internal_ids_in(t.get_text()):
+                out.append(f"{where}: internal id {i!r} in the {what} {t.get_text()!r} "
+                           f"({_words(i)})")
+        leg = ax.get_legend()
+        if leg is not None and len(leg.get_texts()) > MAX_LEGEND:
+            out.append(f"{where}: legend with {len(leg.get_texts())} entries (at most "
+                       f"{MAX_LEGEND}: small multiples or a table)")
+        units = {}
+        u = units_in(ax.get_ylabel())
+        if u:
+            units[u] = f"y label '{ax.get_ylabel()}'"
+        for a in ax.lines + ax.collections:
+            lab = _label(a)
+            u = lab and units_in(lab)
+            if u:
+                units.setdefault(u, f"'{lab}'")
+        if len(units) > 1:
+            out.append(f"{where}: {len(units)} units on one y axis: "
+                       + ", ".join(f"{k} ({v})" for k, v in units.items())
+                       + " — one quantity per axis (small multiples or a twin axis)")
+        if getattr(ax, "name", "") == "3d":       # 2-D geometry does not apply to 3-D axes
+            continue
+        if not hasattr(ax, "_colorbar"):
+            pos = ax.get_position()
+            w, h = pos.width * fw, pos.height * fh
+            if min(w, h) > 0 and max(w / h, h / w) > 10:
+                out.append(f"{where}: a panel {w:.2g} × {h:.2g} in ({max(w / h, h / w):.0f}:1)")
+        if not ax.get_autoscaley_on() and ax.lines:
+            ys = []
+            x0, x1 = sorted(ax.get_xlim())
+            for ln in ax.lines:
+                xy = np.asarray(ln.get_xydata(), float)
+                if ln.get_transform() != ax.transData or not len(xy):
+                    continue
+                keep = np.isfinite(xy).all(axis=1) & (xy[:, 0] >= x0) & (xy[:, 0] <= x1)
+                if keep.any():
+                    ys.append(ax.transData.transform(xy[keep])[:, 1])
+            if ys:
+                y = np.concatenate(ys)
+                b = ax.bbox
+                lo, hi = np.clip([y.min(), y.max()], b.y0, b.y1)
+                frac = (hi - lo) / b.height
+                if frac < 1 / 3:
+                    out.append(f"{where}: a fixed y range the data fill {100 * frac:.0f} % of "
+                               "(let it autoscale, or set it to the data)")
+        out += _hidden_lines(fig, ax, where)
+    for what, size in small.items():
+        out.append(f"{tag}: {what}s at {size:g} pt (at least {MIN_FONT_PT:g} pt on the page)")
+    return out
+
+
+def install_figure_check(mode: str = "raise") -> None:
+    """Make ``matplotlib.pyplot.show`` run :func:`check_figure` on every open figure first:
+    ``mode="raise"`` raises :class:`FigureCheckError` listing the defects (the figures are
+    closed); ``"warn"`` prints them (``figure check: …`` lines on stderr) and shows the figures."""
+    import sys
+
+    import matplotlib.pyplot as plt
+
+    if mode not in ("raise", "warn"):
+        raise ValueError(f"mode must be 'raise' or 'warn', got {mode!r}")
+    shown = getattr(plt.show, "_imunav_shown", plt.show)
+
+    def show(*args, **kwargs):
+        problems = []
+        for num in plt.get_fignums():
+            problems += check_figure(plt.figure(num))
+        if problems and mode == "raise":
+            plt.close("all")
+            raise FigureCheckError("the figure check failed:\n  " + "\n  ".join(problems))
+        for p in problems:
+            print(f"figure check: {p}", file=sys.stderr)
+        return shown(*args, **kwargs)
+
+    show._imunav_shown = shown
+    show.__doc__ = shown.__doc__
+    plt.show = show
+
+
+
+#: The groups of algorithms drawn together (no more than 8 a panel).
+ALGORITHM_GROUPS = (
+    ("rate samples", ("rates/first_order", "rates/exact_exponential", "rates/magnus4",
+                      "rates/magnus6")),
+    ("increments, classic", ("increments/first_order", "increments/exact_exponential",
+                             "increments/coning2", "increments/ignagni2", "increments/miller3",
+                             "increments/ignagni3", "increments/ignagni4")),
+    ("increments, offline", ("increments/poly6_m4", "increments/poly8_m6")),
+)

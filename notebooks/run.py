@@ -1,0 +1,185 @@
+"""Sync and execute notebooks in place (``make notebooks``; ``make notebooks NB="00 05"``).
+
+``python notebooks/run.py [NN …]`` — for each notebook whose name starts with one of ``NN`` (all
+by default): ``jupytext --update`` its source ``src/NN_*.py`` into the ``.ipynb``, then execute
+every cell in a fresh kernel with the inline backend (nbclient, one cell at a time: the next
+request is sent only when the previous one has replied) and write it back with its outputs and
+figures. Before the first cell the kernel installs the figure check
+(:func:`imunav.plotting.install_figure_check`), so a figure with a defect fails the run.
+
+Progress: one line per code cell (its number, time and first line) and per notebook.
+
+**The stall, and why it cannot happen here.** nbclient waits for a cell's reply with one
+``await socket.poll(timeout)`` on the asyncio shell socket (and for its outputs with a poll without
+a timeout on the iopub socket). A zmq socket's file descriptor is edge-triggered, and now and then
+the wake-up of such a poll is lost although the message has arrived — most often in cells with
+ipywidgets, whose Output-widget mimic sends comm messages on the same shell socket while the
+reply is awaited (jupyter/nbclient#312). Both processes then sit idle: "an idle kernel with
+cells pending", until the poll's timeout (600 s here) finds the message that was there all
+along — we measured exactly that on notebook 04's interact cell (600.0 s, then it went on). So
+this runner never waits on one long poll: every wait is cut into 1 s slices, each of which
+ends with a direct check of the socket, so a lost wake-up costs at most a second. Each one
+recovered so (a message seen more than 0.2 s after it was sent while we waited) is counted and
+reported (``lost wake-ups``), never hidden; there is no retry.
+
+The last line is ``notebooks: N executed, F failed, W lost wake-ups recovered (T s)``; the exit status is 1 if
+any notebook failed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import subprocess
+import sys
+import time
+from pathlib import Path
+from queue import Empty
+
+import nbformat
+from nbclient import NotebookClient
+from nbclient.exceptions import CellExecutionError, CellTimeoutError, DeadKernelError
+from nbclient.util import run_sync
+
+HERE = Path(__file__).resolve().parent
+BIN = Path(sys.executable).parent
+KERNEL_SETUP = "from imunav.core.style import install_figure_check as _f; _f({mode!r}); del _f"
+_ANSI = re.compile(r"\x1b\[[0-9;]*m")
+
+
+SLICE_S = 1.0     # longest single wait on a socket
+LATE_S = 0.2      # a message seen this long after it was sent, while we waited: a lost wake-up
+
+
+def sliced(get_msg, counter: list):
+    """``get_msg(timeout)`` of an asyncio channel as a loop of :data:`SLICE_S` polls (each ends
+    with a direct check of the socket). A message sent while we were already waiting but seen
+    more than :data:`LATE_S` later (its header's date) was found by such a check, not by its
+    wake-up: counted in ``counter[0]``."""
+    async def get(timeout=None):
+        deadline = None if timeout is None else time.monotonic() + timeout
+        waiting_since = time.time()
+        while True:
+            left = SLICE_S if deadline is None else max(0.0, min(SLICE_S, deadline - time.monotonic()))
+            try:
+                msg = await get_msg(timeout=left)
+            except Empty:
+                if deadline is not None and time.monotonic() >= deadline:
+                    raise
+                continue
+            sent = msg["header"].get("date")
+            if sent is not None:
+                sent = sent.timestamp()
+                if sent > waiting_since and time.time() - sent > LATE_S:
+                    counter[0] += 1
+            return msg
+    return get
+
+
+class Runner(NotebookClient):
+    """nbclient with progress, the figure check, and no single long wait on a socket."""
+
+    def __init__(self, nb, name: str, **kw):
+        super().__init__(nb, **kw)
+        self.name = name
+        self.lost = [0]
+        self.figure_defects = 0
+        self.n_code = sum(1 for c in nb.cells if c.cell_type == "code" and c.source.strip())
+        self.k = 0
+
+    def slice_waits(self) -> None:
+        for ch in (self.kc.shell_channel, self.kc.iopub_channel):
+            ch.get_msg = sliced(ch.get_msg, self.lost)
+
+    async def async_execute_cell(self, cell, cell_index, execution_count=None,
+                                 store_history=True):
+        if cell.cell_type != "code" or not cell.source.strip():
+            return cell
+        self.k += 1
+        lost, t0 = self.lost[0], time.perf_counter()
+        out = await super().async_execute_cell(cell, cell_index, execution_count, store_history)
+        for o in cell.outputs:
+            if o.output_type == "stream" and "figure check:" in o.text:
+                for line in o.text.splitlines():
+                    if line.startswith("figure check:"):
+                        self.figure_defects += 1
+                        print(f"  {self.name} [{self.k:2d}] {line}", flush=True)
+        first = cell.source.strip().splitlines()[0][:60]
+        note = (f"  ({self.lost[0] - lost} lost wake-up(s) recovered)" if self.lost[0] > lost
+                else "")
+        print(f"  {self.name} [{self.k:2d}/{self.n_code}] {time.perf_counter() - t0:6.1f} s"
+              f"  {first}{note}", flush=True)
+        return out
+
+    execute_cell = run_sync(async_execute_cell)
+
+
+def _install_check(client: Runner, mode: str) -> None:
+    reply = client.wait_for_reply(client.kc.execute(KERNEL_SETUP.format(mode=mode),
+                                                    store_history=False))
+    if reply is None or reply["content"]["status"] != "ok":
+        raise RuntimeError(f"figure check not installed: {reply and reply['content'].get('evalue')}")
+
+
+def run_one(path: Path, timeout: float, sync: bool = True, write: bool = True,
+            check: str = "raise") -> tuple[bool, int]:
+    src = path.parent / "src" / f"{path.stem}.py"
+    if sync:
+        subprocess.run([str(BIN / "jupytext"), "--quiet", "--update", "--to", "ipynb", "-o",
+                        str(path), str(src)], check=True)
+    nb = nbformat.read(path, as_version=4)
+    client = Runner(nb, path.stem, timeout=timeout, kernel_name="python3",
+                    resources={"metadata": {"path": str(path.parent)}})
+    t0 = time.perf_counter()
+    ok = True
+    try:
+        with client.setup_kernel():
+            client.slice_waits()
+            _install_check(client, check)
+            for i, cell in enumerate(nb.cells):
+                client.execute_cell(cell, i)
+            client.set_widgets_metadata()
+    except (CellExecutionError, CellTimeoutError, DeadKernelError) as exc:
+        ok = False
+        print(f"FAIL {path.stem}: {type(exc).__name__}: "
+              f"{_ANSI.sub('', str(exc)).strip()[-1500:]}", flush=True)
+    if ok and write:
+        nbformat.write(nb, path)
+    lost = client.lost[0]
+    print(f"{'done' if ok else 'FAILED'} {path.stem}: {client.k} cells in "
+          f"{time.perf_counter() - t0:.0f} s" + (f", {lost} lost wake-up(s) recovered" if lost
+                                                 else ""), flush=True)
+    return ok, lost
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("only", nargs="*", help="notebook name prefixes (00 05 …); default all")
+    ap.add_argument("--timeout", type=float, default=600, help="seconds per cell (600)")
+    ap.add_argument("--figure-check", choices=("raise", "warn"), default="raise",
+                    help="a figure defect fails the cell (raise) or is printed (warn)")
+    ap.add_argument("--dir", type=Path, default=HERE, help="the notebooks' folder")
+    ap.add_argument("--no-sync", action="store_true", help="do not sync from src/*.py first")
+    ap.add_argument("--no-write", action="store_true", help="execute, but leave the files")
+    args = ap.parse_args(argv)
+    nbs = sorted(args.dir.glob("[0-9][0-9]_*.ipynb"))
+    if args.only:
+        nbs = [p for p in nbs if any(p.name.startswith(o) for o in args.only)]
+        if not nbs:
+            print(f"run.py: error: no notebook starts with {' or '.join(args.only)}",
+                  file=sys.stderr)
+            return 2
+    t0 = time.perf_counter()
+    failed = stalls = 0
+    for p in nbs:
+        print(f"{p.stem}: executing", flush=True)
+        ok, s = run_one(p, args.timeout, not args.no_sync, not args.no_write, args.figure_check)
+        failed += not ok
+        stalls += s
+    print(f"notebooks: {len(nbs) - failed} executed, {failed} failed, {stalls} lost wake-ups "
+          f"recovered ({time.perf_counter() - t0:.0f} s)")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
