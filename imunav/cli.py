@@ -320,6 +320,9 @@ def cmd_simulate(args) -> int:
     model, imu_files = _imu(args.imu)
     if (args.aiding is None) != (args.aiding_out is None):
         raise ImunavError("--aiding and --aiding-out go together")
+    if args.aiding and args.earth != "flat":
+        raise ImunavError("--aiding simulates the flat frame so far: the aided filter on "
+                          "--earth wgs84 is not built yet")
     aiding = AidingConfig.from_toml(args.aiding) if args.aiding else None
     inputs = [args.motion, *imu_files] + ([args.aiding] if args.aiding else [])
     out = check_outputs({"--out": args.out, "--truth": args.truth}, inputs)
@@ -390,6 +393,9 @@ def cmd_filter(args) -> int:
     sig = read_signals(args.signals, g=args.g)
     _check_algorithm(sig.kind, args.algorithm)
     init = read_initial_state(args.initial)
+    if init.frame != "flat":
+        raise ImunavError(f"--initial {args.initial} is a {init.frame} state: the aided filter "
+                          "works in the flat frame so far (t,x,y,z,vx,vy,vz,qw,qx,qy,qz)")
     t_start = float(sig.state_times()[0])
     if abs(init.t[0] - t_start) > 1e-6 / sig.rate + 1e-12 * abs(t_start):
         raise ImunavError(f"--initial {args.initial} starts at t = {init.t[0]:.9g} s but the "
