@@ -437,3 +437,116 @@ def test_norm_quantile_converges_in_a_few_newton_steps(monkeypatch):
         assert np.all(q >= top * stats.halfnorm.ppf(p) * (1 - 1e-12))
         assert np.all(q <= top * stats.chi(3).ppf(p) * (1 + 1e-12))
     assert G.norm_quantile(np.zeros((3, 3)), 0.95) == 0.0
+
+
+# ------------------------------------------------------------ streamed analysis (issue 25)
+
+
+@pytest.mark.parametrize("motion", [figure_eight(), STILL], ids=["figure_eight", "still"])
+def test_streamed_summary_is_the_full_analysis_to_the_bit(motion):
+    """The streamed analysis (what `assess` and `design` run) keeps the grid and the extrema of
+    the full-history one, with the same bits: the verdict and the design numbers are the same
+    dictionaries, whatever the piece size."""
+    from imunav.analysis.assessment import verdict_covariance
+    from imunav.analysis.covariance import covariance_summary, envelope_index
+
+    for preset, output in (("ADIS16470", "increments"), ("MPU-6050", "rates")):
+        model = ImuModel.load(preset)
+        full = covariance(motion, model, 50.0, output=output)
+        for tol in (0.05, 2.0, 1e4):
+            for chunk in (1000, 77):
+                s = covariance_summary(motion, model, 50.0, output=output, tolerance=tol,
+                                       level=0.95, maxima=True, chunk=chunk)
+                idx = envelope_index(full.t.size)
+                np.testing.assert_array_equal(s.t, full.t[idx])
+                np.testing.assert_array_equal(s.total, full.total[idx])
+                for k in full.terms:
+                    np.testing.assert_array_equal(s.terms[k], full.terms[k][idx])
+                    assert s.max_position_quantile(0.95, k) == full.max_position_quantile(0.95, k)
+                assert s.max_position_quantile() == full.max_position_quantile()
+                assert s.within_summary(tol, 0.95) == full.within_summary(tol, 0.95)
+                assert s.warnings == full.warnings
+                assert verdict_covariance(s, tol, None) == verdict_covariance(full, tol, None)
+
+
+def test_streamed_minimum_and_crossing_are_the_brute_force_ones():
+    """The pruned minimum and first crossing against the CDF evaluated at every output time,
+    on a record long enough for many pieces, where the bounds decide most steps."""
+    from imunav.analysis.covariance import covariance_summary
+
+    motion, model = figure_eight(), ImuModel.load("ADIS16470")
+    full = covariance(motion, model, 100.0)
+    for tol in (0.02, 0.3, 5.0, 50.0):
+        w = full.position_within(tol)
+        over = np.nonzero(w < 0.95)[0]
+        s = covariance_summary(motion, model, 100.0, tolerance=tol, level=0.95, chunk=100)
+        assert s.within == (w.min(), int(over[0]) if over.size else None)
+        if w.min() < 1 - 1e-9:                 # (within 1e-9 of 1 a short record is scanned)
+            assert s.exact_evaluations < 0.05 * full.t.size      # the bounds did most of it
+
+
+def _peak_memory(fn):
+    import tracemalloc
+
+    tracemalloc.start()
+    try:
+        fn()
+        return tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+
+
+def test_covariance_assessment_memory_does_not_grow_with_the_record():
+    """Issue 25: the covariance assessment kept ~100 kB per sample (`still_2h --rate 50` took
+    more than 16 GB). Now a record 10× longer needs about the same memory."""
+    from imunav.analysis.assessment import assess_covariance
+
+    model = ImuModel.load("tactical")
+    short = _peak_memory(lambda: assess_covariance(Motion(duration=60.0), model, 50.0, 5.0,
+                                                   progress=False))
+    long = _peak_memory(lambda: assess_covariance(Motion(duration=600.0), model, 50.0, 5.0,
+                                                  progress=False))
+    assert long < 1.3 * short + 2e6, (short, long)
+
+
+def test_streamed_analysis_refuses_what_cannot_fit(monkeypatch):
+    import imunav.core.resources as res
+    from imunav.analysis.covariance import covariance_summary
+    from imunav.core.validation import ImunavError
+
+    monkeypatch.setattr(res, "available_memory", lambda: 20_000_000)
+    with pytest.raises(ImunavError, match="covariance analysis of 1,000 steps .* would need "
+                                          "about .* of memory; 20 MB is available"):
+        covariance_summary(STILL, ImuModel.load("ADIS16470"), 50.0)
+
+
+def test_long_streamed_analysis_shows_progress(monkeypatch, capsys):
+    import importlib
+
+    C = importlib.import_module("imunav.analysis.covariance")
+
+    monkeypatch.setattr(C, "PROGRESS_WORK", 1e4)
+    C.covariance_summary(STILL, ImuModel.load("tactical"), 50.0, progress=True, chunk=100)
+    assert "covariance" in capsys.readouterr().err
+    C.covariance_summary(STILL, ImuModel.load("tactical"), 50.0, progress=False, chunk=100)
+    assert capsys.readouterr().err == ""
+
+
+def test_streamed_summary_on_the_earth_is_the_local_covariance():
+    """On the rotating Earth the streamed analysis propagates the inertial error state step by
+    step (its transition is not unipotent) and keeps the local NED errors' covariance on the
+    grid: the same as the whole history mapped by EarthErrorModel.local."""
+    from imunav.analysis.covariance import covariance_summary, envelope_index
+    from imunav.estimation import EARTH, Trajectory, linearise, propagate
+    from imunav.motion import EarthMotion
+
+    m = EarthMotion(Motion(x="30*sin(0.1*t)", yaw="0.2*t", duration=60.0), (0.7, 0.2, 100.0))
+    model = ImuModel.load("BMI088")
+    traj = Trajectory.of(m, 5.0, 60.0)
+    sources, _ = linearise(model, traj, "increments")
+    full = EARTH.local(traj, sum(propagate(sources, traj, EARTH)))
+    s = covariance_summary(m, model, 5.0, 60.0, tolerance=50.0, level=0.95, chunk=64)
+    idx = envelope_index(traj.t.size)
+    np.testing.assert_allclose(s.total, full[idx], rtol=1e-12, atol=1e-12 * np.abs(full).max())
+    w = norm_cdf(full[:, 6:9, 6:9], 50.0)
+    assert s.within[0] == pytest.approx(w.min(), rel=1e-12)

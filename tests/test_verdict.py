@@ -280,34 +280,44 @@ def test_verdict_covariance_record_in_full():
 
 
 def test_deterministic_error_runs_only_filter_and_range(monkeypatch):
-    """One noise-free run of the filter and range alone, for the duration and signals asked."""
+    """One noise-free run of the filter and range alone, for the duration and signals asked;
+    none where neither can act on the motion."""
     from imunav import ImuModel
     from imunav.analysis.montecarlo import monte_carlo
     from imunav.sensors.models import TriadModel
 
     seen = []
+    run_errors = A.run_errors
 
-    def recording_mc(motion, model, rate, duration, *, runs, output, progress):
-        seen.append((model, duration, runs, output, progress))
-        return monte_carlo(motion, model, rate, duration, runs=runs, output=output, progress=False)
+    def recording(motion, rate, duration, output, imu):
+        seen.append((imu, duration, output))
+        return run_errors(motion, rate, duration, output, imu=imu)
 
-    monkeypatch.setattr(A, "monte_carlo", recording_mc)
+    monkeypatch.setattr(A, "run_errors", recording)
     m = Motion(x="0.5*sin(3*t)", yaw="0.4*sin(2*t)", duration=4.0, name="m")
     model = ImuModel(TriadModel(noise_density=1e-3, bias=1e-3, range=0.5, bandwidth=5.0,
                                 internal_rate=400.0),
                      TriadModel(noise_density=1e-3, range=30.0, bandwidth=8.0,
                                 internal_rate=400.0), "cheap")
     out = A.deterministic_error(m, model, 50.0, 2.0, "rates")
-    (det, duration, runs, output, progress), = seen
-    assert (duration, runs, output, progress) == (2.0, 1, "rates", False)
+    (det, duration, output), = seen
+    assert (duration, output) == (2.0, "rates")
     assert det.name == "cheap:deterministic"
     assert det.gyro == TriadModel(range=0.5, bandwidth=5.0, internal_rate=400.0)
     assert det.accel == TriadModel(range=30.0, bandwidth=8.0, internal_rate=400.0)
     assert out[0] > 0 and out[1] > 0
+    # the streamed run is the one-run Monte Carlo of the same model (an independent path)
+    mc = monte_carlo(m, det, 50.0, 2.0, runs=1, output="rates", progress=False)
+    assert out == pytest.approx((mc.position.max(), mc.attitude.max()), rel=1e-9)
     seen.clear()
     A.deterministic_error(m, model, 50.0)
-    assert seen[0][1:4] == (None, 1, "increments")
+    assert seen[0][1:] == (None, "increments")
     assert A.deterministic_error(m, ImuModel(TriadModel(bias=1.0), TriadModel(), "b"), 50.0) is None
+    # a range alone, the motion far inside it (peaks given): no run, nothing to measure
+    seen.clear()
+    ranged = ImuModel(TriadModel(range=10.0), TriadModel(range=200.0), "r")
+    assert A.deterministic_error(m, ranged, 50.0, peaks=(4.9, 99.0)) is None and not seen
+    assert A.deterministic_error(m, ranged, 50.0, peaks=(5.1, 99.0)) is not None and seen
 
 
 def test_monte_carlo_envelope_is_over_runs_at_each_time():
@@ -323,23 +333,25 @@ def test_monte_carlo_envelope_is_over_runs_at_each_time():
 
 def test_assess_covariance_passes_every_setting_through(monkeypatch):
     from imunav import ImuModel
-    from imunav.analysis.covariance import covariance
+    from imunav.analysis.covariance import covariance_summary
     from imunav.sensors.models import TriadModel
 
     seen = {}
 
-    def rec_cov(motion, model, rate, duration, *, output):
-        seen["cov"] = (duration, output)
-        return covariance(motion, model, rate, duration, output=output)
+    def rec_cov(motion, model, rate, duration, *, output, tolerance, level, progress, vertical):
+        assert vertical == "free"                         # the flat frame's
+        seen["cov"] = (duration, output, tolerance, level)
+        return covariance_summary(motion, model, rate, duration, output=output,
+                                  tolerance=tolerance, level=level, progress=progress)
 
-    monkeypatch.setattr(A, "covariance", rec_cov)
+    monkeypatch.setattr(A, "covariance_summary", rec_cov)
     monkeypatch.setattr(A, "min_sample_rate", lambda *a: seen.setdefault("rate", a) and 40.0)
     monkeypatch.setattr(A, "deterministic_error",
-                        lambda *a: seen.setdefault("det", a) and (0.05, 0.01))
+                        lambda *a, peaks: seen.setdefault("det", a) and (0.05, 0.01))
     m = Motion(x="t", yaw="0.1*sin(t)", duration=5.0, name="m")
     model = ImuModel(TriadModel(noise_density=1e-3), TriadModel(bias=1e-2), "two")
     r = A.assess_covariance(m, model, 20.0, 0.4, duration=2.0, output="rates")
-    assert seen["cov"] == (2.0, "rates")
+    assert seen["cov"] == (2.0, "rates", 0.4, 0.95)
     assert seen["rate"] == (m, 0.4, 2.0, "rates")
     assert seen["det"] == (m, model, 20.0, 2.0, "rates")
     assert (r["motion"], r["imu"], r["min_rate_hz"]) == ("m", "two", 40.0)

@@ -10,15 +10,21 @@ from __future__ import annotations
 
 import numpy as np
 
-from imunav.analysis.covariance import CovarianceResult, covariance
+from imunav.analysis.covariance import (
+    ENVELOPE_POINTS,
+    CovarianceResult,
+    CovarianceSummary,
+    covariance_summary,
+    envelope_index,
+)
+from imunav.analysis.gaussnorm import norm_quantile
 from imunav.analysis.metrics import nav_errors
 from imunav.analysis.montecarlo import MonteCarloResult, monte_carlo
-from imunav.analysis.roundtrip import initial_state
 from imunav.core.validation import check_positive
 from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import ImuModel, TriadModel
-from imunav.sensors.simulate import simulate_imu
-from imunav.strapdown.registry import navigate
+from imunav.sensors.simulate import signal_chunks
+from imunav.strapdown.registry import navigate_chunks
 
 RATE_CANDIDATES = (1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000)
 
@@ -31,13 +37,42 @@ PERCENTILE = 95
 SAMPLING_SHARE = 0.1
 
 
+def run_errors(motion: BaseMotion, rate: float, duration: float | None = None,
+               output: str = "increments", imu: ImuModel | None = None
+               ) -> tuple[float, float]:
+    """Maximum position (m) and attitude (rad) error of one run navigated with the default
+    algorithm: the ideal signals, or ``imu``'s (seed 0) — streamed in chunks, so the memory
+    does not grow with the duration.
+
+    Parameters
+    ----------
+    motion : BaseMotion
+    rate : float
+        Output rate (Hz).
+    duration : float, optional
+        Seconds; default the motion's own.
+    output : {"increments", "rates"}
+    imu : ImuModel, optional
+
+    Returns
+    -------
+    position, attitude : float
+    """
+    duration = span(motion, rate, duration)
+    q0, v0, p0 = motion.states(np.array([0.0])).initial()
+    chunks = signal_chunks(motion, rate, duration, output=output, imu=imu)
+    pos = att = 0.0
+    for st in navigate_chunks(output, rate, chunks, q0, v0, p0, earth=motion.frame):
+        err = nav_errors(st, motion)
+        pos, att = max(pos, float(err.position.max())), max(att, float(err.attitude.max()))
+    return pos, att
+
+
 def sampling_error(motion: BaseMotion, rate: float, duration: float,
                    output: str = "increments") -> float:
     """Maximum position error (m) of an ideal sensor at ``rate`` with the default algorithm:
-    what sampling alone costs on this motion."""
-    sig = simulate_imu(motion, rate, duration, output=output)
-    nav = navigate(sig, *initial_state(motion, sig), earth=motion.frame)
-    return float(nav_errors(nav, motion).position.max())
+    what sampling alone costs on this motion (streamed: :func:`run_errors`)."""
+    return run_errors(motion, rate, duration, output)[0]
 
 
 def min_sample_rate(motion: BaseMotion, tolerance: float, duration: float | None = None,
@@ -87,15 +122,12 @@ def verdict(mc: MonteCarloResult, tolerance: float, budget: dict[str, MonteCarlo
     }
 
 
-#: Points of the envelope reported in ``--json`` (and plotted): the output times, thinned.
-ENVELOPE_POINTS = 201
-
-
 def _envelope_index(n: int) -> np.ndarray:
-    return np.unique(np.linspace(0, n - 1, min(n, ENVELOPE_POINTS)).round().astype(int))
+    return envelope_index(n, ENVELOPE_POINTS)
 
 
-def verdict_covariance(cov: CovarianceResult, tolerance: float, min_rate: float | None, *,
+def verdict_covariance(cov: CovarianceResult | CovarianceSummary, tolerance: float,
+                       min_rate: float | None, *,
                        motion: str = "motion", imu: str = "imu") -> dict:
     """The verdict from a covariance analysis: the same keys as :func:`verdict`.
 
@@ -118,7 +150,7 @@ def verdict_covariance(cov: CovarianceResult, tolerance: float, min_rate: float 
         "method": "covariance", "runs": None, "seed": None,
         "fraction_within_tolerance": within,
         "suitable": within >= SUITABLE_FRACTION,
-        "time_p95_exceeds_s": None if first_over is None else float(cov.t[first_over]),
+        "time_p95_exceeds_s": None if first_over is None else cov.time_at(first_over),
         "final_p95_position_m": float(env_p[-1]),
         "error_budget": dict(sorted(terms.items(), key=lambda kv: -kv[1])),
         "min_rate_hz": min_rate,
@@ -130,33 +162,45 @@ def verdict_covariance(cov: CovarianceResult, tolerance: float, min_rate: float 
 
 
 def deterministic_error(motion: BaseMotion, model: ImuModel, rate: float,
-                        duration: float | None = None, output: str = "increments"
+                        duration: float | None = None, output: str = "increments",
+                        peaks: tuple[float, float] | None = None
                         ) -> tuple[float, float] | None:
     """Maximum position (m) and attitude (rad) error of one noise-free run keeping only the
     sensor's deterministic, non-linear terms — the anti-alias filter (its lag on the signal) and
-    the range (clipping) — or None if the model has neither. The covariance models only their
-    effect on noise; this measures what they do to the motion itself."""
+    the range (clipping) — or None if the model has neither, or (given the motion's ``peaks``
+    ``(max |ω_b|, max |f_b|)``) no filter and a range the motion stays far inside (below half
+    of it: that run would be the ideal sensor's). The covariance models only their effect on
+    noise; this measures what they do to the motion itself (streamed: :func:`run_errors`)."""
     def keep(m):
         return TriadModel(range=m.range, bandwidth=m.bandwidth, internal_rate=m.internal_rate)
 
-    if not any(t.bandwidth or t.range for t in (model.gyro, model.accel)):
+    gyro, accel = model.gyro, model.accel
+    if not any(t.bandwidth or t.range for t in (gyro, accel)):
         return None
-    det = ImuModel(keep(model.gyro), keep(model.accel), f"{model.name}:deterministic")
-    mc = monte_carlo(motion, det, rate, duration, runs=1, output=output, progress=False)
-    return float(mc.position.max()), float(mc.attitude.max())
+    if peaks is not None and not (gyro.bandwidth or accel.bandwidth) and all(
+            not m.range or peak <= m.range / 2 for m, peak in ((gyro, peaks[0]),
+                                                                (accel, peaks[1]))):
+        return None
+    det = ImuModel(keep(gyro), keep(accel), f"{model.name}:deterministic")
+    return run_errors(motion, rate, duration, output, imu=det)
 
 
 def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, tolerance: float,
-                      duration: float | None = None, output: str = "increments") -> dict:
+                      duration: float | None = None, output: str = "increments",
+                      progress: bool = True, vertical: str = "free") -> dict:
     """The applicability verdict by linear covariance analysis (:mod:`~imunav.analysis.covariance`):
     a fraction of a second where Monte Carlo takes tens of seconds; exact for the linear
     model, and flagged when the motion leaves its validity (clipping, large attitude errors,
-    a filter lag that matters on this motion: :func:`deterministic_error`)."""
+    a filter lag that matters on this motion: :func:`deterministic_error`). On the WGS-84
+    Earth ``vertical="hold"`` holds the vertical channel at the true height; free, a verdict
+    dominated by the unstable vertical channel says so."""
     tolerance = check_positive(tolerance, "tolerance")
-    cov = covariance(motion, model, rate, duration, output=output)
+    cov = covariance_summary(motion, model, rate, duration, output=output, tolerance=tolerance,
+                             level=SUITABLE_FRACTION, progress=progress, vertical=vertical)
     r = verdict_covariance(cov, tolerance, min_sample_rate(motion, tolerance, duration, output),
                            motion=motion.name, imu=model.name)
-    det = deterministic_error(motion, model, rate, duration, output)
+    det = deterministic_error(motion, model, rate, duration, output,
+                              peaks=(cov.max_rate, cov.max_force))
     r["deterministic_position_m"] = None if det is None else det[0]
     if det is not None and det[0] > SAMPLING_SHARE * tolerance:
         r["warnings"].append(
@@ -164,6 +208,15 @@ def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, toleranc
             f"this motion (signal lag or clipping: not in the covariance, which models their "
             f"effect on noise); the error can reach the 95th percentile plus this. Check with "
             "--method montecarlo")
+    if motion.frame == "wgs84" and cov.terms:
+        Ph = cov.total[-1:, 6:9, 6:9].copy()
+        Ph[:, 2, :] = Ph[:, :, 2] = 0.0                      # the horizontal part alone
+        hor = float(norm_quantile(Ph, PERCENTILE / 100)[0])
+        r["vertical"] = vertical
+        r["final_p95_horizontal_m"] = hor
+        note = vertical_note(r["final_p95_position_m"], hor, vertical)
+        if note:
+            r["warnings"].append(note)
     return r
 
 

@@ -7,14 +7,16 @@ percentiles of the error norm to the parameter itself. So the largest value of a
 keeps the 95th-percentile position error within a tolerance over the whole motion is exact:
 ``value · tolerance / max_t p95(t)``; likewise the largest common scale of all terms together.
 
-May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``, ``imunav.analysis``.
+May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``, ``imunav.estimation``,
+``imunav.analysis``.
 """
 
 from __future__ import annotations
 
 from imunav.analysis.assessment import PERCENTILE, SUITABLE_FRACTION, min_sample_rate
-from imunav.analysis.covariance import Trajectory, covariance
+from imunav.analysis.covariance import covariance_summary
 from imunav.core.validation import check_positive
+from imunav.estimation.error_model import LazyTrajectory
 from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import ImuModel
 from imunav.sensors.presets import PRESETS
@@ -42,14 +44,17 @@ def in_datasheet_units(term: str, si: float) -> str:
 
 
 def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
-           duration: float | None = None, output: str = "increments") -> dict:
+           duration: float | None = None, output: str = "increments",
+           progress: bool = True, vertical: str = "free") -> dict:
     """Limits of each error term of ``base``, the common scale, the minimum rate and every
-    preset ranked (the numbers of ``imunav design``; the JSON it writes)."""
+    preset ranked (the numbers of ``imunav design``; the JSON it writes). On the WGS-84 Earth
+    ``vertical="hold"`` holds the vertical channel at the true height."""
     tolerance = check_positive(tolerance, "tolerance")
     p = PERCENTILE / 100
     duration = span(motion, rate, duration)
-    traj = Trajectory.of(motion, rate, duration)
-    cov = covariance(motion, base, rate, duration, output=output, trajectory=traj)
+    traj = LazyTrajectory(motion, rate, duration)
+    cov = covariance_summary(motion, base, rate, duration, output=output, p=p, maxima=True,
+                             trajectory=traj, progress=progress, vertical=vertical)
     terms = {}
     for term in cov.terms:
         triad, _, name = term.partition(".")
@@ -64,8 +69,9 @@ def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
     worst_total = cov.max_position_quantile(p) if cov.terms else 0.0
     presets = []
     for name in PRESETS:
-        pc = covariance(motion, ImuModel.load(name), rate, duration, output=output,
-                        trajectory=traj)
+        pc = covariance_summary(motion, ImuModel.load(name), rate, duration, output=output,
+                                tolerance=tolerance, trajectory=traj, progress=progress,
+                                vertical=vertical)
         final = float(pc.position_quantile(p, index=-1)) if pc.terms else 0.0
         within = pc.min_position_within(tolerance) if pc.terms else 1.0
         presets.append({"name": name, "final_p95_position_m": final,

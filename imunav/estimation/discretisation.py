@@ -13,6 +13,10 @@ For a step ``h`` with the motion held at the step's midpoint, the continuous sys
 - :func:`van_loan`: both from the matrix exponential of ``[[−F, Q_c], [0, Fᵀ]] h`` (Van Loan
   1978) for any ``F``: the general method (a frame whose ``A`` is not nilpotent), and the
   independent check of the closed forms.
+- :class:`StepBlocks`: the same discrete system kept in its blocks — the navigation transition,
+  the sensor-state input ``Γ``, the sensor states' diagonal decay, and the blocks of ``Q_d`` —
+  which is what the covariance propagation works on (:func:`blocks_from_full` splits a full
+  ``(Φ, Q_d)``).
 
 May import: ``imunav.core``.
 """
@@ -21,13 +25,15 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.linalg import expm
 
 from imunav.core.kernels import FloatArray
 
-__all__ = ["GAUSS_LEGENDRE", "flat_transition", "phi_functions", "process_noise", "van_loan"]
+__all__ = ["GAUSS_LEGENDRE", "StepBlocks", "blocks_from_full", "flat_transition", "phi_functions",
+           "process_noise", "van_loan"]
 
 #: Nodes and weights on [−1, 1] of the quadrature of the process noise.
 GAUSS_LEGENDRE = np.polynomial.legendre.leggauss(6)
@@ -68,6 +74,22 @@ def phi_functions(d: FloatArray, h: float) -> tuple[FloatArray, FloatArray, Floa
     return p0, p1, p2
 
 
+#: φ-functions already computed, by (decay rates, step): a filter discretises thousands of steps
+#: of the same few lengths (and their Gauss–Legendre nodes) with the same rates.
+_PHI_CACHE: dict[tuple[bytes, float], tuple[FloatArray, FloatArray, FloatArray]] = {}
+
+
+def _phi_cached(d: FloatArray, h: float) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """:func:`phi_functions`, remembered (at most 4096 entries; a pure function)."""
+    key = (np.ascontiguousarray(d, dtype=float).tobytes(), float(h))
+    hit = _PHI_CACHE.get(key)
+    if hit is None:
+        if len(_PHI_CACHE) >= 4096:
+            _PHI_CACHE.clear()
+        hit = _PHI_CACHE[key] = phi_functions(d, h)
+    return hit
+
+
 def flat_transition(F: FloatArray, B: FloatArray, D: FloatArray, h: float) -> FloatArray:
     """Exact transition over ``h`` of ``[[A, B], [0, diag(D)]]``, ``A`` the flat frame's
     navigation block built from ``F = [f_n×]``.
@@ -98,7 +120,7 @@ def flat_transition(F: FloatArray, B: FloatArray, D: FloatArray, h: float) -> Fl
     Phi[:, 6:9, 3:6] = I3 * h
     Phi[:, 6:9, 6:9] = I3
     if k:
-        p0, p1, p2 = phi_functions(D, h)
+        p0, p1, p2 = _phi_cached(D, h)
         Bphi, Bv = B[:, 0:3], B[:, 3:6]
         G = np.zeros((N, 9, k))
         G += B * p0                                  # B φ0
@@ -166,3 +188,94 @@ def van_loan(F: FloatArray, Qc: FloatArray, h: float) -> tuple[FloatArray, Float
     Phi = np.swapaxes(E[:, n:, n:], 1, 2)
     Qd = Phi @ E[:, :n, n:]
     return Phi, 0.5 * (Qd + np.swapaxes(Qd, 1, 2))
+
+
+@dataclass
+class StepBlocks:
+    """The discrete system of ``T`` steps of an error source, in blocks.
+
+    The state is ``[e, x]``: the navigation errors ``e`` (``n`` of them) and the source's ``k``
+    sensor states ``x``, whose own dynamics never depend on the navigation errors or on the
+    trajectory, so that over one step::
+
+        Φ = [[nav, gamma], [0, diag(decay)]],     Q_d = [[Qnn, Qnx], [Qnxᵀ, Qxx]].
+
+    Attributes
+    ----------
+    nav : ndarray, shape (T, n, n)
+        The navigation errors' own transition.
+    gamma : ndarray, shape (T, n, k)
+        How the sensor states at the step's start drive the navigation errors at its end.
+    decay : ndarray, shape (k,)
+        The sensor states' transition (diagonal: each decays on its own; 0 for a state that is
+        drawn afresh every step).
+    Qnn, Qnx : ndarray, shapes (T, n, n), (T, n, k)
+        Process-noise blocks.
+    Qxx : ndarray, shape (k, k)
+        The sensor states' process noise (the same every step).
+    """
+
+    nav: FloatArray
+    gamma: FloatArray
+    decay: FloatArray
+    Qnn: FloatArray
+    Qnx: FloatArray
+    Qxx: FloatArray
+
+    @property
+    def steps(self) -> int:
+        """Number of steps ``T``."""
+        return int(self.nav.shape[0])
+
+    def full(self) -> tuple[FloatArray, FloatArray]:
+        """The whole ``(Φ, Q_d)``, shapes (T, n + k, n + k) (what :func:`blocks_from_full`
+        splits).
+
+        Returns
+        -------
+        Phi, Qd : ndarray
+        """
+        T, n, k = self.steps, self.nav.shape[-1], self.decay.size
+        Phi = np.zeros((T, n + k, n + k))
+        Phi[:, :n, :n] = self.nav
+        Phi[:, :n, n:] = self.gamma
+        Phi[:, n:, n:] = np.diag(self.decay)
+        Qd = np.empty_like(Phi)
+        Qd[:, :n, :n] = self.Qnn
+        Qd[:, :n, n:] = self.Qnx
+        Qd[:, n:, :n] = np.swapaxes(self.Qnx, -1, -2)
+        Qd[:, n:, n:] = self.Qxx
+        return Phi, Qd
+
+
+def blocks_from_full(Phi: FloatArray, Qd: FloatArray, n: int) -> StepBlocks:
+    """Split a full discrete system whose last ``k`` states decay on their own.
+
+    Parameters
+    ----------
+    Phi, Qd : ndarray, shape (T, n + k, n + k)
+        The transition and process noise of each step (``Φ`` with a zero lower-left block, a
+        diagonal lower-right block the same at every step, and ``Q_d``'s lower-right block the
+        same at every step).
+    n : int
+        The navigation errors: the first ``n`` states.
+
+    Returns
+    -------
+    StepBlocks
+
+    Raises
+    ------
+    ValueError
+        If the sensor states are driven by the navigation errors, or do not decay each on
+        their own, or change from step to step.
+    """
+    E = Phi[:, n:, n:]
+    decay = np.diagonal(E[0]).copy() if E.shape[0] else np.zeros(E.shape[-1])
+    if (np.any(Phi[:, n:, :n]) or np.any(E != np.diag(decay))
+            or np.any(Qd[:, n:, n:] != Qd[:1, n:, n:])):
+        raise ValueError("blocks_from_full needs sensor states that decay on their own "
+                         "(zero lower-left block of Phi, one diagonal lower-right block, "
+                         "constant Qd of the states)")
+    return StepBlocks(Phi[:, :n, :n], Phi[:, :n, n:], decay, Qd[:, :n, :n], Qd[:, :n, n:],
+                      Qd[0, n:, n:] if Qd.shape[0] else np.zeros((decay.size,) * 2))

@@ -49,7 +49,8 @@ May import: ``imunav.core``, ``imunav.earth``, ``imunav.motion``, ``imunav.senso
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 
@@ -63,15 +64,22 @@ from imunav.earth import (
     dcm_ned_to_ecef,
     gravitation_gradient,
 )
-from imunav.estimation.discretisation import flat_transition, process_noise, van_loan
+from imunav.estimation.discretisation import (
+    GAUSS_LEGENDRE,
+    StepBlocks,
+    blocks_from_full,
+    flat_transition,
+    phi_functions,
+    process_noise,
+    van_loan,
+)
 from imunav.motion.base import BaseMotion
 from imunav.sensors.models import ImuModel
 from imunav.sensors.simulate import interval_count
 from imunav.sensors.terms import TERMS, LinearisationContext, SensorErrorStates
 
 __all__ = ["DP", "DV", "EARTH", "EARTH_HOLD", "NAV", "PHI", "EarthErrorModel", "ErrorSource",
-           "FlatErrorModel",
-           "Trajectory", "error_model", "linearise"]
+           "FlatErrorModel", "LazyTrajectory", "Trajectory", "error_model", "linearise"]
 
 #: The navigation error states: attitude error φ (rad), velocity error δv (m/s), position
 #: error δp (m), each 3 components in the navigation frame; ``NAV`` = 9 of them.
@@ -128,6 +136,9 @@ class Trajectory:
     frame: str = "flat"
     gradient: FloatArray | None = None
     output: FloatArray | None = None
+    #: What an error model computes once per trajectory and step length (its transitions),
+    #: shared by the sources propagated along it: one dictionary per model name.
+    cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     @classmethod
     def of(cls, motion: BaseMotion, rate: float, duration: float, g: float = G0) -> Trajectory:
@@ -159,17 +170,42 @@ class Trajectory:
         """
         n = interval_count(rate, duration)
         h = 1.0 / check_positive(rate, "rate")
-        g = check_gravity(g)
-        t = np.arange(n + 1) * h
+        traj = cls.sampled(motion, np.arange(n + 1) * h, h, check_gravity(g))
+        traj.max_rate = float(np.linalg.norm(traj.omega, axis=1).max())
+        traj.max_force = float(np.linalg.norm(traj.f_b, axis=1).max())
+        return traj
+
+    @classmethod
+    def sampled(cls, motion: BaseMotion, t: FloatArray, h: float, g: float,
+                max_rate: float = 0.0, max_force: float = 0.0) -> Trajectory:
+        """The motion at the midpoints of the steps ending at ``t[1:]``.
+
+        Parameters
+        ----------
+        motion : BaseMotion
+        t : ndarray, shape (n + 1,)
+            Step ends ``k·h`` (checked by the caller).
+        h : float
+            The step (s).
+        g : float
+            Gravity magnitude (m/s²), checked.
+        max_rate, max_force : float
+            The range peaks to record.
+
+        Returns
+        -------
+        Trajectory
+        """
         tm = t[:-1] + h / 2
         if motion.frame == "wgs84":
-            return cls._on_earth(motion, h, t, tm)
+            traj = cls._on_earth(motion, h, t, tm)
+            traj.max_rate, traj.max_force = max_rate, max_force
+            return traj
         q = motion.attitude(tm)
         a = motion.acceleration(tm) - np.array([0.0, 0.0, g])
         w = motion.angular_rate(tm)
         fb = motion.specific_force(tm, g)
-        return cls(h, t, quat_to_dcm(q), a, w, fb, float(np.linalg.norm(w, axis=1).max()),
-                   float(np.linalg.norm(fb, axis=1).max()))
+        return cls(h, t, quat_to_dcm(q), a, w, fb, max_rate, max_force)
 
     @classmethod
     def _on_earth(cls, motion, h: float, t: FloatArray, tm: FloatArray) -> Trajectory:
@@ -234,6 +270,75 @@ class Trajectory:
         return self.omega if triad == "gyro" else self.f_b
 
 
+class LazyTrajectory:
+    """A motion's :class:`Trajectory`, sampled a piece at a time.
+
+    What a covariance analysis of a record of any length walks along: only the range peaks
+    (one pass over the midpoints, in pieces) are kept, and :meth:`piece` samples the motion
+    when it is asked for, so the memory does not grow with the record. Its pieces are equal,
+    to the bit, to the pieces of :meth:`Trajectory.of`.
+
+    Parameters
+    ----------
+    motion : BaseMotion
+    rate : float
+        Output rate (Hz), > 0.
+    duration : float
+        Seconds (> 0).
+    g : float
+        Gravity magnitude (m/s²).
+    chunk : int
+        Steps sampled at once for the range peaks.
+
+    Attributes
+    ----------
+    h : float
+        Output step (s).
+    steps : int
+        Number of steps N.
+    frame : {"flat", "wgs84"}
+        The motion's frame (its pieces are :meth:`Trajectory.of`'s on the Earth too).
+    max_rate, max_force : float
+        Largest ``|ω_b|`` and ``|f_b|`` over the midpoints.
+
+    Raises
+    ------
+    ImunavError
+        For a non-positive rate, duration or gravity, or fewer than one step.
+    """
+
+    def __init__(self, motion: BaseMotion, rate: float, duration: float, g: float = G0,
+                 chunk: int = 1 << 16):
+        self.steps = interval_count(rate, duration)
+        self.h = 1.0 / check_positive(rate, "rate")
+        self.g = check_gravity(g)
+        self.motion = motion
+        self.frame = motion.frame
+        self.max_rate = self.max_force = 0.0
+        for lo in range(0, self.steps, chunk):
+            tm = (np.arange(lo, min(self.steps, lo + chunk) + 1) * self.h)[:-1] + self.h / 2
+            w = np.linalg.norm(motion.angular_rate(tm), axis=1).max()
+            f = np.linalg.norm(motion.specific_force(tm, self.g), axis=1).max()
+            self.max_rate, self.max_force = max(self.max_rate, float(w)), max(self.max_force,
+                                                                              float(f))
+
+    def piece(self, lo: int, hi: int) -> Trajectory:
+        """Steps ``lo … hi − 1`` (and their end times ``t_lo … t_hi``), sampled now.
+
+        Parameters
+        ----------
+        lo, hi : int
+            The steps, ``0 ≤ lo < hi ≤ N``.
+
+        Returns
+        -------
+        Trajectory
+            With this trajectory's range peaks.
+        """
+        return Trajectory.sampled(self.motion, np.arange(lo, hi + 1) * self.h, self.h, self.g,
+                                  self.max_rate, self.max_force)
+
+
 @dataclass
 class ErrorSource:
     """One independent sensor error source as a linear system of the navigation errors and
@@ -264,16 +369,37 @@ class ErrorSource:
         """Whether the source is a differenced white error (quantised increments)."""
         return bool(self.states.differenced_white)
 
+    def constant_input(self) -> FloatArray | None:
+        """The input matrix ``M`` (3, k) if it does not depend on what the triad measures
+        (a bias: the same every step), else None (a scale factor, a misalignment).
+
+        Returns
+        -------
+        ndarray or None
+        """
+        u = np.array([[0.3, -1.1, 2.7], [-5.0, 0.7, 0.2]])
+        f = np.array([[1.9, 0.4, -9.6], [0.1, -3.3, 4.4]])
+        M = self.states.input_matrix(u, f)
+        return M[0].copy() if np.array_equal(M[0], M[1]) else None
+
+    @property
+    def block_size(self) -> int:
+        """States the propagation carries besides the navigation errors: ``size``, or 3 (the
+        last quantisation residual) for a differenced source."""
+        return 3 if self.differenced else self.size
+
     def initial_covariance(self) -> FloatArray:
         """``P₀`` of ``[e, x]``: the navigation errors 0, the sensor states ``states.P0``.
 
         Returns
         -------
         ndarray, shape (9 + k, 9 + k)
+            ``k`` = :attr:`block_size`.
         """
-        k = self.size
+        k = self.block_size
         P0 = np.zeros((NAV + k, NAV + k))
-        P0[NAV:, NAV:] = self.states.P0
+        if not self.differenced:
+            P0[NAV:, NAV:] = self.states.P0
         return P0
 
     def noise_psd(self) -> FloatArray:
@@ -300,6 +426,10 @@ class FlatErrorModel:
     """
 
     name = "flat"
+    #: The navigation transition of a step is ``I + N`` with ``N`` strictly lower block
+    #: triangular in the order φ, δv, δp (``A³ = 0``): what lets the propagation run along the
+    #: time axis in closed recursions (:func:`~imunav.estimation.propagation.propagate_chunks`).
+    unipotent = True
 
     def nav_matrix(self, traj: Trajectory) -> FloatArray:
         """The navigation block ``A`` (N, 9, 9) at each step of ``traj``.
@@ -428,6 +558,91 @@ class FlatErrorModel:
         return (flat_transition(F, B, D, h),
                 process_noise(lambda s: flat_transition(F, B, D, s), source.noise_psd(), h))
 
+    def discretise_blocks(self, traj: Trajectory, source: ErrorSource, h: float | None = None
+                          ) -> StepBlocks:
+        """The discrete system of :meth:`discretise` in its blocks, computed block by block.
+
+        The same integrals, arranged for what is sparse here: the sensor states enter through
+        ``Γ(s) = Σ_{i≤2} Aⁱ B φ_i(D, s)`` (each ``Aⁱ B`` nonzero in a few rows), so
+        ``Γ Q_x Γᵀ`` integrates to ``Σ_ij Aⁱ B diag(W_ij) (Aʲ B)ᵀ`` with the weights
+        ``W_ij = Σ_s w_s φ_i(s) φ_j(s) q_x`` of the 6-node Gauss–Legendre rule; the white noise
+        on the navigation rows likewise with ``Φ_nav(s) = I + A s + A² s²/2``. A differenced
+        source (quantised increments with a carried residual, :attr:`ErrorSource.differenced`)
+        carries the last residual ``e`` as 3 states drawn afresh every step: ``δu = (e_k −
+        e_{k−1})/h`` enters through the response ``G`` to a constant input over the step,
+        ``Γ = −G/h``, ``Q_d = var·[G/h; I][G/h; I]ᵀ``.
+
+        Parameters
+        ----------
+        traj : Trajectory
+        source : ErrorSource
+        h : float, optional
+            The step (s); default one sub-step, ``traj.h / source.sub``.
+
+        Returns
+        -------
+        StepBlocks
+            ``k`` = :attr:`ErrorSource.block_size`.
+        """
+        h = traj.h / source.sub if h is None else h
+        T = traj.steps
+        cache = traj.cache.setdefault(self.name, {})
+        if "F" not in cache:
+            cache["F"] = skew(traj.f_n)
+        F = cache["F"]
+        if ("nav", h) not in cache:
+            cache["nav", h] = flat_transition(F, np.zeros((T, NAV, 0)), np.zeros(0), h)
+        nav = cache["nav", h]
+        Qnn = np.zeros((T, NAV, NAV))
+        qn = source.noise_psd()[:NAV]
+        cols = np.nonzero(qn)[0]
+        if cols.size:                                   # white noise on the navigation rows
+            if ("white", cols.tobytes()) not in cache:
+                E = np.zeros((T, NAV, cols.size))
+                E[:, cols, np.arange(cols.size)] = 1.0
+                cache["white", cols.tobytes()] = np.concatenate(_powers(F, E), axis=2)
+            Qnn += _sandwich(cache["white", cols.tobytes()],
+                             _white_weights(h, qn[cols].tobytes()))
+        if source.differenced:
+            var = source.states.differenced_white
+            B = self.sensor_input(traj, source.states)
+            Gh = _powers_input(F, B, phi_functions(np.zeros(3), h)) / h
+            Qnn += var * Gh @ np.ascontiguousarray(np.swapaxes(Gh, 1, 2))
+            return StepBlocks(nav, -Gh, np.zeros(3), Qnn, var * Gh, var * np.eye(3))
+        k = source.size
+        if not k:
+            return StepBlocks(nav, np.zeros((T, NAV, 0)), np.zeros(0), Qnn,
+                              np.zeros((T, NAV, 0)), np.zeros((0, 0)))
+        D, qx = source.states.D, source.states.Qs
+        phis, W, V, qxx = _state_weights(h, D.tobytes(), qx.tobytes())
+        states = source.states
+        M0 = source.constant_input()
+        if M0 is not None:
+            # a constant input M: B = B₀ M, B₀ the triad's rows, so Γ = [B₀, A B₀, A² B₀]·R
+            # with R = [M φ₀; M φ₁; M φ₂] constant (one matrix product for all steps)
+            if ("triad", states.triad) not in cache:
+                B0 = self.noise_input(traj)[:, :, _TRIAD_COLUMNS[states.triad]]
+                cache["triad", states.triad] = np.concatenate(_powers(F, B0), axis=2)
+            Gs = cache["triad", states.triad]                                 # (T, 9, 9)
+            Rg, Rq, Om = _constant_factors(h, D.tobytes(), qx.tobytes(), M0.tobytes(), k)
+            flat = Gs.reshape(T * NAV, 9)
+            gamma = (flat @ Rg).reshape(T, NAV, k)
+            if Om is not None:
+                Qnx = (flat @ Rq).reshape(T, NAV, k)
+                Qnn += _sandwich(Gs, Om)
+            else:
+                Qnx = np.zeros((T, NAV, k))
+            return StepBlocks(nav, gamma, np.exp(D * h), Qnn, Qnx, np.diag(qxx))
+        B = self.sensor_input(traj, source.states)
+        powers = _powers(F, B)
+        gamma = powers[0] * phis[0] + powers[1] * phis[1] + powers[2] * phis[2]
+        if np.any(qx):
+            _add_quadratic(Qnn, powers, W)
+            Qnx = powers[0] * V[0] + powers[1] * V[1] + powers[2] * V[2]
+        else:
+            Qnx = np.zeros((T, NAV, k))
+        return StepBlocks(nav, gamma, np.exp(D * h), Qnn, Qnx, np.diag(qxx))
+
     def local(self, traj: Trajectory, P: FloatArray, lo: int = 0) -> FloatArray:
         """The covariances ``P`` of the error state at ``t_lo, t_lo+1, …`` as covariances of the
         errors a user reads (here the same: the flat frame's state is those errors).
@@ -468,6 +683,98 @@ class FlatErrorModel:
         return van_loan(F, Qc, h)
 
 
+def _powers(F: FloatArray, B: FloatArray) -> list[FloatArray]:
+    """``[B, A B, A² B]`` of the flat frame's ``A`` (``[f_n×]`` from φ into δv, I from δv into
+    δp) and an input ``B`` (N, 9, k)."""
+    AB = np.zeros_like(B)
+    AB[:, DV] = F @ B[:, PHI]
+    AB[:, DP] = B[:, DV]
+    A2B = np.zeros_like(B)
+    A2B[:, DP] = AB[:, DV]
+    return [B, AB, A2B]
+
+
+def _powers_input(F: FloatArray, B: FloatArray, phis) -> FloatArray:
+    """``Σ_i Aⁱ B φ_i``: the response at a step's end to the sensor states through ``B``."""
+    return sum(G * p for G, p in zip(_powers(F, B), phis, strict=True))
+
+
+#: The columns of :meth:`FlatErrorModel.noise_input` of each triad's white noise.
+_TRIAD_COLUMNS = {"gyro": slice(0, 3), "accel": slice(3, 6)}
+
+
+def _sandwich(G: FloatArray, Om: FloatArray) -> FloatArray:
+    """``G Ω Gᵀ`` at every step: ``G`` (N, n, r), ``Ω`` (r, r) constant (one matrix product
+    for ``G Ω``)."""
+    N, n, r = G.shape
+    GO = (G.reshape(N * n, r) @ Om).reshape(N, n, r)
+    return GO @ np.ascontiguousarray(np.swapaxes(G, 1, 2))
+
+
+def _row_blocks(G: FloatArray) -> list[tuple[slice, FloatArray, FloatArray]]:
+    """The navigation row blocks (φ, δv, δp) of ``G`` (N, 9, k) that are not all zero, each
+    with its transpose (contiguous: numpy's batched matmul is slow on strided views)."""
+    return [(r, np.ascontiguousarray(G[:, r]), np.ascontiguousarray(np.swapaxes(G[:, r], 1, 2)))
+            for r in (PHI, DV, DP) if np.any(G[:, r])]
+
+
+def _add_quadratic(Q: FloatArray, powers: list[FloatArray], W) -> None:
+    """``Q += Σ_ij Gᵢ diag(W_ij) Gⱼᵀ`` over the nonzero row blocks of ``Gᵢ = powers[i]``
+    (``W`` symmetric in i, j: each unordered pair once, its mirror by transposition)."""
+    blocks = [_row_blocks(G) for G in powers]
+    terms = [(i, ra, X, XT) for i, bl in enumerate(blocks) for ra, X, XT in bl]
+    for m, (i, ra, X, _) in enumerate(terms):
+        for j, rb, _, YT in terms[m:]:
+            if not np.any(W[i][j]):
+                continue
+            q = (X * W[i][j]) @ YT
+            Q[:, ra, rb] += q
+            if (j, rb) != (i, ra):
+                Q[:, rb, ra] += np.swapaxes(q, 1, 2)
+
+
+@lru_cache(maxsize=256)
+def _white_weights(h: float, q: bytes) -> FloatArray:
+    """``Ω = [diag(W_ij)]``, ``W_ij = Σ_s w_s (sⁱ/i!)(sʲ/j!) q``, of white noise ``q`` on
+    navigation rows over a step ``h`` (``Φ_nav(s) = Σ_i Aⁱ sⁱ/i!``), 6-node Gauss–Legendre."""
+    q = np.frombuffer(q)
+    nodes, weights = (GAUSS_LEGENDRE[0] + 1) / 2 * h, GAUSS_LEGENDRE[1] / 2 * h
+    a = [nodes ** i / math.factorial(i) for i in range(3)]
+    return np.block([[np.diag(float(np.sum(weights * a[i] * a[j])) * q) for j in range(3)]
+                     for i in range(3)])
+
+
+@lru_cache(maxsize=256)
+def _constant_factors(h: float, D: bytes, qx: bytes, M: bytes, k: int):
+    """For a constant input ``M`` (3, k): ``R_Γ = [M φ₀; M φ₁; M φ₂]`` (Γ = G·R_Γ),
+    ``R_Q = [M V₀; M V₁; M V₂]`` (Q_nx = G·R_Q) and ``Ω = [M diag(W_ij) Mᵀ]`` (the states'
+    part of Q_nn = G Ω Gᵀ; None without driving noise), ``G = [B₀, A B₀, A² B₀]``."""
+    phis, W, V, _ = _state_weights(h, D, qx)
+    M0 = np.frombuffer(M).reshape(3, k)
+    Rg = np.concatenate([M0 * ph for ph in phis])
+    if not np.any(np.frombuffer(qx)):
+        return Rg, None, None
+    Rq = np.concatenate([M0 * v for v in V])
+    return Rg, Rq, np.block([[(M0 * W[i][j]) @ M0.T for j in range(3)] for i in range(3)])
+
+
+@lru_cache(maxsize=256)
+def _state_weights(h: float, D: bytes, qx: bytes):
+    """What a step ``h`` of sensor states with decay rates ``D`` and driving PSD ``qx`` needs,
+    the same for every step: ``φ_i(D, h)``; ``W_ij = Σ_s w_s φ_i(s) φ_j(s) q_x``;
+    ``V_i = Σ_s w_s φ_i(s) q_x e^{D s}`` (the cross block); ``Σ_s w_s q_x e^{2Ds}``."""
+    D, qx = np.frombuffer(D), np.frombuffer(qx)
+    nodes, weights = (GAUSS_LEGENDRE[0] + 1) / 2 * h, GAUSS_LEGENDRE[1] / 2 * h
+    ph = [phi_functions(D, s) for s in nodes]
+    decay = [np.exp(D * s) for s in nodes]
+    W = [[sum(w * ph[n][i] * ph[n][j] * qx for n, w in enumerate(weights)) for j in range(3)]
+         for i in range(3)]
+    V = [sum(w * ph[n][i] * qx * decay[n] for n, w in enumerate(weights)) for i in range(3)]
+    qxx = sum(w * qx * d * d for w, d in zip(weights, decay, strict=True))
+    return phi_functions(D, h), W, V, qxx
+
+
+#: The error model of the flat, non-rotating frame (the only frame so far).
 #: The error model of the flat, non-rotating frame.
 FLAT = FlatErrorModel()
 
@@ -496,6 +803,9 @@ class EarthErrorModel(FlatErrorModel):
     """
 
     name = "wgs84"
+    #: Γ couples δr back into δv: the navigation transition is not unipotent, so the
+    #: propagation goes step by step (:func:`~imunav.estimation.propagation.step_blocks`).
+    unipotent = False
 
     def __init__(self, vertical: str = "free"):
         if vertical not in ("free", "hold"):
@@ -594,6 +904,38 @@ class EarthErrorModel(FlatErrorModel):
         T = np.eye(NAV + k)[None].repeat(H.shape[0], axis=0)
         T[:, :NAV, :NAV] = np.linalg.solve(H, Z[:, None] * H)
         return T
+
+    def discretise_blocks(self, traj: Trajectory, source: ErrorSource, h: float | None = None
+                          ) -> StepBlocks:
+        """:meth:`discretise` in its blocks (split by
+        :func:`~imunav.estimation.discretisation.blocks_from_full`); a differenced source (the
+        last quantisation residual as 3 states drawn afresh) through this model's response
+        ``G`` to a constant input over the step, as :meth:`FlatErrorModel.discretise_blocks`.
+
+        Parameters
+        ----------
+        traj : Trajectory
+        source : ErrorSource
+        h : float, optional
+            The step (s); default one sub-step, ``traj.h / source.sub``.
+
+        Returns
+        -------
+        StepBlocks
+        """
+        h = traj.h / source.sub if h is None else h
+        if not source.differenced:
+            return blocks_from_full(*self.discretise(traj, source, h), NAV)
+        white = ErrorSource(SensorErrorStates(source.name, source.states.triad,
+                                              white_psd=source.states.white_psd), source.sub)
+        nav, Qnn = self.discretise(traj, white, h)
+        var = source.states.differenced_white
+        B = self.sensor_input(traj, source.states)
+        Gh = self.transition(traj, B, np.zeros(3), h)[:, :NAV, NAV:] / h
+        if self.vertical == "hold":                  # the residual's response held too
+            Gh = self.hold_projection(traj)[:, :NAV, :NAV] @ Gh
+        Qnn = Qnn + var * Gh @ np.swapaxes(Gh, 1, 2)
+        return StepBlocks(nav, -Gh, np.zeros(3), Qnn, var * Gh, var * np.eye(3))
 
     def local(self, traj: Trajectory, P: FloatArray, lo: int = 0) -> FloatArray:
         """``H P Hᵀ``: the covariances of the errors in the local NED frame at the true position
