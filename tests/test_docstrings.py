@@ -128,8 +128,6 @@ NOT_YET: set[str] = {
     "imunav.analysis.roundtrip.error_table",
     "imunav.analysis.roundtrip.initial_state",
     "imunav.analysis.roundtrip.round_trip",
-    "imunav.core.states.States.euler",
-    "imunav.core.states.States.initial",
     "imunav.io.files.SignalFile",
     "imunav.io.files.SignalFile.chunks",
     "imunav.io.files.load_motion",
