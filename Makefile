@@ -28,8 +28,10 @@ reproduce: $(STAMP)
 lint: $(STAMP)
 	$(BIN)/ruff check imunav tests notebooks benchmarks
 
+# The unit tests on both cores (pytest-xdist; JOBS=1 for one process).
+JOBS ?= 2
 unit: $(STAMP)
-	MPLBACKEND=Agg $(BIN)/python -m pytest -q tests
+	MPLBACKEND=Agg $(BIN)/python -m pytest -q -n $(JOBS) tests
 
 # The stored notebooks re-run under nbval with the inline backend (figures drawn and checked by
 # the figure check, not compared): all of them, or NB="01 02".
