@@ -143,8 +143,6 @@ NOT_YET: set[str] = {
     "imunav.io.realdata.read_generic",
     "imunav.io.realdata.read_ximu",
     "imunav.io.realdata.read_ximu3",
-    "imunav.sensors.quadrature.integrate_consecutive",
-    "imunav.sensors.quadrature.integrate_intervals",
     "imunav.strapdown.registry.Algorithm",
     "imunav.strapdown.registry.StreamNavigator",
     "imunav.strapdown.registry.StreamNavigator.feed",
