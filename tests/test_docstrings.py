@@ -143,9 +143,6 @@ NOT_YET: set[str] = {
     "imunav.io.realdata.read_generic",
     "imunav.io.realdata.read_ximu",
     "imunav.io.realdata.read_ximu3",
-    "imunav.strapdown.scan.cumulative_product",
-    "imunav.strapdown.scan.exp_product",
-    "imunav.strapdown.scan.prefix_product",
 }
 
 
