@@ -128,9 +128,6 @@ NOT_YET: set[str] = {
     "imunav.analysis.roundtrip.error_table",
     "imunav.analysis.roundtrip.initial_state",
     "imunav.analysis.roundtrip.round_trip",
-    "imunav.io.realdata.read_generic",
-    "imunav.io.realdata.read_ximu",
-    "imunav.io.realdata.read_ximu3",
 }
 
 
