@@ -116,18 +116,10 @@ NOT_YET: set[str] = {
     "imunav.analysis.design.design",
     "imunav.analysis.design.format_design",
     "imunav.analysis.family.run_family",
-    "imunav.analysis.metrics.NavErrors",
-    "imunav.analysis.metrics.NavErrors.summary",
-    "imunav.analysis.metrics.fit_order",
-    "imunav.analysis.metrics.nav_errors",
     "imunav.analysis.montecarlo.MonteCarloResult",
     "imunav.analysis.montecarlo.MonteCarloResult.envelope",
     "imunav.analysis.montecarlo.MonteCarloResult.runs",
     "imunav.analysis.montecarlo.monte_carlo",
-    "imunav.analysis.roundtrip.RoundTrip",
-    "imunav.analysis.roundtrip.error_table",
-    "imunav.analysis.roundtrip.initial_state",
-    "imunav.analysis.roundtrip.round_trip",
 }
 
 
