@@ -108,7 +108,6 @@ NOT_YET: set[str] = {
     "imunav.analysis.assessment.min_sample_rate",
     "imunav.analysis.design.design",
     "imunav.analysis.design.format_design",
-    "imunav.analysis.family.run_family",
     "imunav.analysis.montecarlo.MonteCarloResult",
     "imunav.analysis.montecarlo.MonteCarloResult.envelope",
     "imunav.analysis.montecarlo.MonteCarloResult.runs",
