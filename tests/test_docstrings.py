@@ -106,10 +106,6 @@ NOT_YET: set[str] = {
     "imunav.analysis.assessment.assess_covariance",
     "imunav.analysis.assessment.format_verdict",
     "imunav.analysis.assessment.min_sample_rate",
-    "imunav.analysis.montecarlo.MonteCarloResult",
-    "imunav.analysis.montecarlo.MonteCarloResult.envelope",
-    "imunav.analysis.montecarlo.MonteCarloResult.runs",
-    "imunav.analysis.montecarlo.monte_carlo",
 }
 
 
