@@ -1,14 +1,14 @@
 """The aiding sensors' measurement files: one CSV per sensor in a folder.
 
-=========== ========================================== ================================
-file        header (exactly)                           units
-=========== ========================================== ================================
-gnss.csv    ``t,x,y,z,vx,vy,vz`` or ``t,x,y,z`` (flat) s, m (NED), m/s
-baro.csv    ``t,alt``                                  s, m (altitude, ``−z``)
-heading.csv ``t,yaw``                                  s, rad
-nhc.csv     ``t,vy,vz``                                s, m/s (the constraint readings)
-zupt.csv    ``t0,t1``                                  s (stance intervals)
-=========== ========================================== ================================
+========== ============================================ =============================
+file       header (exactly)                             units
+========== ============================================ =============================
+gnss.csv   ``t,x,y,z,vx,vy,vz`` or ``t,x,y,z`` (flat)   s, m (NED), m/s
+baro.csv   ``t,alt``                                    s, m (altitude, ``−z``)
+heading.csv ``t,yaw``                                   s, rad
+nhc.csv    ``t,vy,vz``                                  s, m/s (the constraint readings)
+zupt.csv   ``t0,t1``                                    s (stance intervals)
+========== ============================================ =============================
 
 A file without velocity (``t,x,y,z``) is written when the GNSS has no ``velocity_sigma``. On
 reading, every value must be a finite number, times strictly increasing (stance intervals with
