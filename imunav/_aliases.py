@@ -65,5 +65,6 @@ class _Finder(importlib.abc.MetaPathFinder):
 
 
 def install() -> None:
+    """Register the finder of the deprecated module names (once; ``import imunav`` calls it)."""
     if not any(isinstance(f, _Finder) for f in sys.meta_path):
         sys.meta_path.append(_Finder())

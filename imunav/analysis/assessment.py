@@ -78,7 +78,39 @@ def sampling_error(motion: BaseMotion, rate: float, duration: float,
 def min_sample_rate(motion: BaseMotion, tolerance: float, duration: float | None = None,
                     output: str = "increments", candidates=RATE_CANDIDATES) -> float | None:
     """Smallest candidate rate at which the sampling error alone (ideal sensor, default
-    algorithm) stays within :data:`SAMPLING_SHARE` of ``tolerance`` over the whole motion."""
+    algorithm) stays within :data:`SAMPLING_SHARE` of ``tolerance`` over the whole motion.
+
+    Parameters
+    ----------
+    motion : BaseMotion
+        The motion.
+    tolerance : float
+        The position tolerance (m).
+    duration : float, optional
+        Seconds; default the motion's own.
+    output : {"increments", "rates"}, default "increments"
+        The signal kind.
+    candidates : sequence of float, default RATE_CANDIDATES
+        Rates (Hz) tried in increasing order; a rate giving fewer than 10 samples over the
+        duration is skipped.
+
+    Returns
+    -------
+    float or None
+        The rate (Hz), or None if no candidate is enough.
+
+    Raises
+    ------
+    ImunavError
+        For the reasons of the simulation and the navigation (an unknown ``output``, a
+        duration that is not a finite number > 0, …).
+
+    Examples
+    --------
+    >>> from imunav.motion import Motion
+    >>> min_sample_rate(Motion(x="sin(3*t)", yaw="sin(2*t)", duration=10.0), tolerance=1e-3)
+    20.0
+    """
     for r in candidates:
         d = span(motion, r, duration) if r * (duration or motion.duration or 0) >= 10 else None
         if d is None:
@@ -188,12 +220,58 @@ def deterministic_error(motion: BaseMotion, model: ImuModel, rate: float,
 def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, tolerance: float,
                       duration: float | None = None, output: str = "increments",
                       progress: bool = True, vertical: str = "free") -> dict:
-    """The applicability verdict by linear covariance analysis (:mod:`~imunav.analysis.covariance`):
-    a fraction of a second where Monte Carlo takes tens of seconds; exact for the linear
+    """The applicability verdict by linear covariance analysis (:mod:`~imunav.analysis.covariance`).
+
+    A fraction of a second where Monte Carlo takes tens of seconds; exact for the linear
     model, and flagged when the motion leaves its validity (clipping, large attitude errors,
-    a filter lag that matters on this motion: :func:`deterministic_error`). On the WGS-84
-    Earth ``vertical="hold"`` holds the vertical channel at the true height; free, a verdict
-    dominated by the unstable vertical channel says so."""
+    a filter lag that matters on this motion: :func:`deterministic_error`).
+
+    Parameters
+    ----------
+    motion : BaseMotion
+        The motion to track.
+    model : ImuModel
+        The sensor's errors.
+    rate : float
+        Output sample rate (Hz).
+    tolerance : float
+        The position tolerance (m), > 0.
+    duration : float, optional
+        Seconds; default the motion's own.
+    output : {"increments", "rates"}, default "increments"
+        The signal kind.
+    progress : bool, default True
+        Show a progress bar on long analyses.
+    vertical : {"free", "hold"}, default "free"
+        On the WGS-84 Earth: hold the vertical channel at the true height (a perfect height
+        aid); free, a verdict dominated by the unstable vertical channel says so.
+
+    Returns
+    -------
+    dict
+        The keys of :func:`verdict_covariance` (``suitable``, ``fraction_within_tolerance``,
+        ``final_p95_position_m`` in m, ``error_budget``, ``envelope``, ``warnings`` …), plus
+        ``deterministic_position_m`` (m or None) and, on the WGS-84 Earth, ``vertical`` and
+        ``final_p95_horizontal_m`` (m).
+
+    Raises
+    ------
+    ImunavError
+        If ``tolerance`` is not a finite number > 0, or for the reasons of the covariance
+        analysis (a ``rate`` or duration that is not a finite number > 0, an unknown
+        ``output`` or ``vertical``, ``"hold"`` on the flat frame, …).
+
+    Examples
+    --------
+    An accelerometer bias of σ = 0.01 m/s² per axis, at rest for 10 s, against 1 m:
+
+    >>> from imunav.motion import Motion
+    >>> from imunav.sensors.models import ImuModel, TriadModel
+    >>> r = assess_covariance(Motion(duration=10.0), ImuModel(accel=TriadModel(bias=0.01)),
+    ...                       rate=10, tolerance=1.0, progress=False)
+    >>> r["suitable"], round(r["final_p95_position_m"], 3), r["time_p95_exceeds_s"]
+    (False, 1.398, 8.5)
+    """
     tolerance = check_positive(tolerance, "tolerance")
     cov = covariance_summary(motion, model, rate, duration, output=output, tolerance=tolerance,
                              level=SUITABLE_FRACTION, progress=progress, vertical=vertical)
@@ -224,13 +302,63 @@ def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int, toleranc
            seed: int = 0, duration: float | None = None, output: str = "increments",
            budget_runs: int | None = None, scheduler: str | None = None,
            progress: bool = True, vertical: str = "free") -> dict:
-    """The applicability verdict: the numbers of ``imunav assess`` (see :func:`verdict` and
-    :func:`format_verdict`).
+    """The applicability verdict by Monte Carlo: the numbers of ``imunav assess`` (see
+    :func:`verdict` and :func:`format_verdict`).
 
-    ``error_budget``: each error term alone (same seed, ``budget_runs`` runs, default
-    min(runs, 200)) → final 95th-percentile position error (m). On the WGS-84 Earth
-    ``vertical="hold"`` holds the vertical channel at the true height (a perfect height aid);
-    free, a verdict dominated by the unstable vertical channel says so.
+    Parameters
+    ----------
+    motion : BaseMotion
+        The motion to track.
+    model : ImuModel
+        The sensor's errors.
+    rate : float
+        Output sample rate (Hz).
+    runs : int
+        Monte Carlo runs with all error terms together, ≥ 1.
+    tolerance : float
+        The position tolerance (m), > 0: a run is within it if its maximum position error
+        over the whole motion is.
+    seed : int, default 0
+        Random seed, ≥ 0.
+    duration : float, optional
+        Seconds; default the motion's own.
+    output : {"increments", "rates"}, default "increments"
+        The signal kind.
+    budget_runs : int, optional
+        Runs per error term alone (same seed) for the error budget; default min(runs, 200).
+    scheduler : str, optional
+        A Dask scheduler's address to run the chunks on (see
+        :func:`~imunav.analysis.montecarlo.monte_carlo`).
+    progress : bool, default True
+        Show a progress bar on long runs.
+    vertical : {"free", "hold"}, default "free"
+        On the WGS-84 Earth: hold the vertical channel at the true height (a perfect height
+        aid); free, a verdict dominated by the unstable vertical channel says so.
+
+    Returns
+    -------
+    dict
+        The keys of :func:`verdict`: ``suitable``, ``fraction_within_tolerance``,
+        ``time_p95_exceeds_s`` (s or None), ``final_p95_position_m`` (m), ``error_budget``
+        (term → final 95th-percentile position error alone, m, largest first),
+        ``min_rate_hz``, ``saturated_runs``, ``envelope``, ``warnings`` …; on the WGS-84 Earth
+        also ``vertical`` and ``final_p95_horizontal_m`` (m).
+
+    Raises
+    ------
+    ImunavError
+        If ``tolerance`` is not a finite number > 0, or for the reasons of
+        :func:`~imunav.analysis.montecarlo.monte_carlo` (``runs``, ``seed``, ``rate``,
+        ``vertical``, ``scheduler`` …).
+
+    Examples
+    --------
+    >>> from imunav.motion import Motion
+    >>> from imunav.sensors.models import ImuModel, TriadModel
+    >>> r = assess(Motion(duration=10.0), ImuModel(accel=TriadModel(bias=0.01)), rate=10,
+    ...            runs=200, tolerance=1.0, progress=False)
+    >>> r["suitable"], list(r["error_budget"])
+    (False, ['accel.bias'])
     """
     tolerance = check_positive(tolerance, "tolerance")
     mc = monte_carlo(motion, model, rate, duration, runs, seed, output, scheduler=scheduler,
@@ -278,7 +406,30 @@ def vertical_note(total: float, horizontal: float, vertical: str) -> str | None:
 
 
 def format_verdict(r: dict) -> str:
-    """A verdict a non-specialist can act on (either method)."""
+    """A verdict a non-specialist can act on (either method): what ``imunav assess`` prints.
+
+    Parameters
+    ----------
+    r : dict
+        A result of :func:`assess` or :func:`assess_covariance` (or :func:`verdict`,
+        :func:`verdict_covariance`).
+
+    Returns
+    -------
+    str
+        Lines: SUITABLE or NOT SUITABLE with the fraction within tolerance, when the 95th
+        percentile crosses it, the dominant term and the error budget, the minimum rate, and
+        the warnings.
+
+    Examples
+    --------
+    >>> from imunav.motion import Motion
+    >>> from imunav.sensors.models import ImuModel, TriadModel
+    >>> r = assess_covariance(Motion(duration=10.0), ImuModel(accel=TriadModel(bias=0.01)),
+    ...                       rate=10, tolerance=1.0, progress=False)
+    >>> print(format_verdict(r).splitlines()[1])
+      NOT SUITABLE: P(position error ≤ 1 m) drops to 73.9 % (needed: 95 % at every time).
+    """
     pct = 100 * r["fraction_within_tolerance"]
     cov = r.get("method") == "covariance"
     how = "covariance analysis" if cov else f"{r['runs']} runs (seed {r['seed']})"

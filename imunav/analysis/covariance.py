@@ -278,7 +278,47 @@ class MaxQuantileTracker:
 
 @dataclass
 class CovarianceResult:
-    """Nav-error covariances (N + 1, 9, 9) per error term and in total, at the output times."""
+    """Nav-error covariances (N + 1, 9, 9) per error term and in total, at the output times.
+
+    What :func:`covariance` returns. The error state is ``[φ, δv, δp]``: attitude error (rad),
+    velocity error (m/s) and position error (m), each in the navigation frame (NED; on the
+    WGS-84 Earth the local NED frame).
+
+    Attributes
+    ----------
+    t : ndarray, shape (N + 1,)
+        The output times (s).
+    terms : dict of str to ndarray, shape (N + 1, 9, 9)
+        Each error term's covariance, keyed ``"gyro.bias"`` etc. (independent sources: they
+        add).
+    total : ndarray, shape (N + 1, 9, 9)
+        Their sum.
+    rate : float
+        The output rate (Hz).
+    model : str
+        The IMU model's name.
+    max_rate : float
+        The motion's largest ``|ω_b|`` (rad/s).
+    max_force : float
+        The motion's largest ``|f_b|`` (m/s²).
+    warnings : list of str
+        Where the linear model may not hold (a range exceeded, large attitude errors).
+
+    Examples
+    --------
+    An accelerometer bias of σ = 0.01 m/s² per axis, at rest for 10 s: δp = ½ b t² is normal
+    with σ = 0.5 m per axis, so its norm's 95th percentile is 0.5 m × √χ²₃(0.95):
+
+    >>> import numpy as np
+    >>> from scipy.stats import chi2
+    >>> from imunav.motion import Motion
+    >>> from imunav.sensors.models import ImuModel, TriadModel
+    >>> r = covariance(Motion(duration=10.0), ImuModel(accel=TriadModel(bias=0.01)), rate=10)
+    >>> list(r.terms), r.t.shape
+    (['accel.bias'], (101,))
+    >>> bool(np.isclose(r.position_quantile(index=-1), 0.5 * np.sqrt(chi2.ppf(0.95, 3))))
+    True
+    """
 
     t: FloatArray
     terms: dict[str, FloatArray]
@@ -291,21 +331,79 @@ class CovarianceResult:
 
     def position_quantile(self, p: float = 0.95, term: str | None = None,
                           index=slice(None)) -> FloatArray:
+        """The ``p``-quantile of the position error's norm ``|δp|`` (m).
+
+        Parameters
+        ----------
+        p : float, default 0.95
+            The probability, in (0, 1).
+        term : str, optional
+            One term alone (a key of :attr:`terms`); default all together.
+        index : int, slice or array, default all
+            Output times.
+
+        Returns
+        -------
+        ndarray or float
+            The quantile (m) at each selected output time.
+        """
         P = self.total if term is None else self.terms[term]
         return norm_quantile(P[index, 6:9, 6:9], p)
 
     def attitude_quantile(self, p: float = 0.95, term: str | None = None,
                           index=slice(None)) -> FloatArray:
+        """The ``p``-quantile of the attitude error's norm ``|φ|`` (rad).
+
+        Parameters
+        ----------
+        p : float, default 0.95
+            The probability, in (0, 1).
+        term : str, optional
+            One term alone (a key of :attr:`terms`); default all together.
+        index : int, slice or array, default all
+            Output times.
+
+        Returns
+        -------
+        ndarray or float
+            The quantile (rad) at each selected output time.
+        """
         P = self.total if term is None else self.terms[term]
         return norm_quantile(P[index, 0:3, 0:3], p)
 
     def position_within(self, tolerance: float) -> FloatArray:
-        """``P(|δp(t)| ≤ tolerance)`` at every output time."""
+        """``P(|δp(t)| ≤ tolerance)`` at every output time.
+
+        Parameters
+        ----------
+        tolerance : float
+            The radius (m).
+
+        Returns
+        -------
+        ndarray, shape (N + 1,)
+            The probability at each output time.
+        """
         return norm_cdf(self.total[:, 6:9, 6:9], tolerance)
 
     def max_position_quantile(self, p: float = 0.95, term: str | None = None) -> float:
-        """``max_t`` of the ``p``-quantile of the position error: exact quantiles only where
-        the bounds leave the maximum possible (:class:`MaxQuantileTracker`)."""
+        """``max_t`` of the ``p``-quantile of the position error's norm.
+
+        Exact quantiles are computed only where eigenvalue bounds leave the maximum possible
+        (:class:`MaxQuantileTracker`).
+
+        Parameters
+        ----------
+        p : float, default 0.95
+            The probability, in (0, 1).
+        term : str, optional
+            One term alone; default all together.
+
+        Returns
+        -------
+        float
+            The largest quantile over the output times (m).
+        """
         P = (self.total if term is None else self.terms[term])[:, 6:9, 6:9]
         track = MaxQuantileTracker(p)
         for lo in range(0, P.shape[0], CHUNK):
@@ -313,8 +411,26 @@ class CovarianceResult:
         return track.maximum
 
     def within_summary(self, tolerance: float, level: float) -> tuple[float, int | None]:
-        """``(min_t P(|δp(t)| ≤ tol), first index where it is below level)`` — exact CDFs
-        only where the eigenvalue bounds leave the answer open (:class:`WithinTracker`)."""
+        """The smallest probability of staying within ``tolerance``, and when it first drops
+        below ``level``.
+
+        Exact CDFs are computed only where the eigenvalue bounds leave the answer open
+        (:class:`WithinTracker`).
+
+        Parameters
+        ----------
+        tolerance : float
+            The radius (m).
+        level : float
+            The probability whose first crossing is wanted (0: none).
+
+        Returns
+        -------
+        minimum : float
+            ``min_t P(|δp(t)| ≤ tolerance)``.
+        first : int or None
+            The first output index where that probability is below ``level``, or None.
+        """
         track = WithinTracker(tolerance, level)
         P = self.total[:, 6:9, 6:9]
         for lo in range(0, P.shape[0], CHUNK):
@@ -322,7 +438,18 @@ class CovarianceResult:
         return track.minimum, track.first
 
     def min_position_within(self, tolerance: float) -> float:
-        """``min_t P(|δp(t)| ≤ tolerance)`` (see :meth:`within_summary`)."""
+        """``min_t P(|δp(t)| ≤ tolerance)`` (see :meth:`within_summary`).
+
+        Parameters
+        ----------
+        tolerance : float
+            The radius (m).
+
+        Returns
+        -------
+        float
+            The smallest probability over the output times.
+        """
         return self.within_summary(tolerance, 0.0)[0]
 
     def time_at(self, index: int) -> float:

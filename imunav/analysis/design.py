@@ -46,9 +46,50 @@ def in_datasheet_units(term: str, si: float) -> str:
 def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
            duration: float | None = None, output: str = "increments",
            progress: bool = True, vertical: str = "free") -> dict:
-    """Limits of each error term of ``base``, the common scale, the minimum rate and every
-    preset ranked (the numbers of ``imunav design``; the JSON it writes). On the WGS-84 Earth
-    ``vertical="hold"`` holds the vertical channel at the true height."""
+    """The worst IMU that still tracks ``motion`` within ``tolerance``.
+
+    Limits of each error term of ``base``, the common scale, the minimum rate and every
+    preset ranked: the numbers of ``imunav design`` (the JSON it writes). Exact in the linear
+    covariance model, where the position error's percentiles scale with each parameter (see
+    the module's description).
+
+    Parameters
+    ----------
+    motion : BaseMotion
+        The motion to track.
+    base : ImuModel
+        The IMU whose terms are scaled (its values set the mix of terms).
+    rate : float
+        Output sample rate (Hz).
+    tolerance : float
+        The largest acceptable 95th-percentile position error (m) over the whole motion.
+    duration : float, optional
+        Seconds; default the motion's own.
+    output : {"increments", "rates"}, default "increments"
+        The signal kind.
+    progress : bool, default True
+        Show progress bars on long analyses.
+    vertical : {"free", "hold"}, default "free"
+        On the WGS-84 Earth: the vertical channel free or held at the true height.
+
+    Returns
+    -------
+    dict
+        ``motion``, ``imu``, ``rate_hz``, ``tolerance_m``; ``terms``: for each term of
+        ``base`` with an effect, ``limit_si`` (SI), ``limit`` and ``base`` (in datasheet
+        units) and ``max_p95_position_m``; ``common_scale`` (the factor on all of ``base``'s
+        values together that meets the tolerance, or None without error terms);
+        ``min_rate_hz`` (:func:`~imunav.analysis.assessment.min_sample_rate`); ``presets``
+        (``name``, ``final_p95_position_m``, ``suitable``, ``warnings``), best first; and
+        ``warnings``.
+
+    Raises
+    ------
+    ImunavError
+        If ``tolerance`` is not a finite number > 0, or for the reasons of the covariance
+        analysis (a ``rate`` or ``duration`` that is not a finite number > 0, an unknown
+        ``output`` or ``vertical``, …).
+    """
     tolerance = check_positive(tolerance, "tolerance")
     p = PERCENTILE / 100
     duration = span(motion, rate, duration)
@@ -90,6 +131,19 @@ def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
 
 
 def format_design(r: dict) -> str:
+    """The plain-text report of :func:`design` (what ``imunav design`` prints).
+
+    Parameters
+    ----------
+    r : dict
+        A result of :func:`design`.
+
+    Returns
+    -------
+    str
+        Lines: each term's limit beside this IMU's value, the common scale, the minimum
+        rate, the presets ranked (SUITABLE or NOT SUITABLE) and the warnings.
+    """
     lines = [f"Design for motion {r['motion']} at {r['rate_hz']:g} Hz, tolerance "
              f"{r['tolerance_m']:g} m (95th percentile of the position error, whole motion), "
              f"from IMU {r['imu']}:"]

@@ -33,7 +33,31 @@ from imunav.strapdown.registry import navigate_batch
 
 @dataclass
 class MonteCarloResult:
-    """Per-run error histories at the output times ``t`` (runs × samples)."""
+    """Per-run error histories at the output times ``t`` (runs × samples): what
+    :func:`monte_carlo` returns.
+
+    Attributes
+    ----------
+    t : ndarray, shape (N,)
+        The output state times (s), from the initial state.
+    position : ndarray, shape (R, N)
+        Each run's position error norm ``|Δr|`` (m; on the WGS-84 Earth the distance in local
+        NED).
+    velocity : ndarray, shape (R, N)
+        Each run's velocity error norm ``|Δv|`` (m/s).
+    attitude : ndarray, shape (R, N)
+        Each run's attitude error angle (rad).
+    saturated : ndarray of int, shape (R,)
+        Output samples clipped at the sensor's range in each run.
+    model : str
+        The IMU model's name.
+    rate : float
+        Output rate (Hz).
+    kind : {"rates", "increments"}
+        The signal kind.
+    horizontal : ndarray, shape (R, N), optional
+        On the WGS-84 Earth: the north–east position error norm (m); None on the flat frame.
+    """
 
     t: FloatArray
     position: FloatArray     # |Δr| (m)
@@ -47,10 +71,24 @@ class MonteCarloResult:
 
     @property
     def runs(self) -> int:
+        """The number of runs R."""
         return self.position.shape[0]
 
     def envelope(self, key: str = "position", q=(50, 68, 95)) -> dict[int, FloatArray]:
-        """Percentile envelopes vs time (median, 68 %, 95 % by default)."""
+        """Percentile envelopes of an error over the runs, vs time.
+
+        Parameters
+        ----------
+        key : {"position", "velocity", "attitude", "horizontal"}, default "position"
+            The error (``"horizontal"`` on the WGS-84 Earth only).
+        q : sequence of float, default (50, 68, 95)
+            Percentiles (0–100).
+
+        Returns
+        -------
+        dict
+            Percentile → ndarray of shape (N,) (the error's unit: m, m/s or rad).
+        """
         a = getattr(self, key)
         return {p: np.percentile(a, p, axis=0) for p in q}
 
@@ -173,12 +211,68 @@ def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: floa
                 chunk: int | None = None, progress: bool = True,
                 scheduler: str | None = None, algorithm: str | None = None,
                 vertical: str = "free") -> MonteCarloResult:
-    """``runs`` simulations of ``model`` on ``motion`` at ``rate`` Hz, each navigated back with
-    ``algorithm`` (default: the registry's default for ``output``).
+    """Simulate a sensor on a motion many times with independent errors and navigate each run
+    back from the true initial state.
 
-    Reproducible bit for bit for a given ``seed`` (whatever ``chunk`` or ``scheduler``). On the
-    Earth (an :class:`~imunav.motion.geodetic.EarthMotion`) ``vertical="hold"`` holds each run's
-    vertical channel at the true height (a perfect height aid).
+    Reproducible bit for bit for a given ``seed`` (whatever ``chunk`` or ``scheduler``); run 0
+    is what :func:`~imunav.sensors.simulate.simulate_imu` gives for the same seed.
+
+    Parameters
+    ----------
+    motion : BaseMotion
+        The truth (flat, or an :class:`~imunav.motion.geodetic.EarthMotion` on WGS-84).
+    model : ImuModel
+        The sensor's errors.
+    rate : float
+        Output sample rate (Hz), > 0.
+    duration : float, optional
+        Seconds; default the motion's own.
+    runs : int, default 100
+        Number of runs, ≥ 1.
+    seed : int, default 0
+        Random seed, ≥ 0 (run r draws from ``SeedSequence(seed).spawn(runs)[r]``).
+    output : {"increments", "rates"}, default "increments"
+        The signal kind.
+    g : float, default G0
+        Gravity magnitude (m/s²) of the flat frame.
+    chunk : int, optional
+        Runs navigated together; default sized to about 2e6 samples.
+    progress : bool, default True
+        Show a progress bar on long runs.
+    scheduler : str, optional
+        The address of a Dask scheduler to send the chunks to (needs ``imunav[dask]``).
+    algorithm : str, optional
+        The strapdown algorithm; default the registry's most accurate for ``output``.
+    vertical : {"free", "hold"}, default "free"
+        On the WGS-84 Earth: hold each run's vertical channel at the true height (a perfect
+        height aid).
+
+    Returns
+    -------
+    MonteCarloResult
+
+    Raises
+    ------
+    ImunavError
+        If ``vertical`` is unknown, or ``"hold"`` for a flat motion; ``rate`` or the duration
+        is not a finite number > 0; ``runs`` is not an integer ≥ 1 or ``seed`` not one ≥ 0;
+        the runs would not fit in memory; ``scheduler`` is given without dask installed; or
+        for the reasons of the simulation and the navigation (an unknown ``output`` or
+        ``algorithm``, …).
+
+    Examples
+    --------
+    An accelerometer bias of σ = 0.01 m/s² per axis, at rest for 10 s: the final position
+    error is 0.5 m × a χ₃ variable, whose median is 0.5 m × 1.538:
+
+    >>> from imunav.motion import Motion
+    >>> from imunav.sensors.models import ImuModel, TriadModel
+    >>> mc = monte_carlo(Motion(duration=10.0), ImuModel(accel=TriadModel(bias=0.01)), rate=10,
+    ...                  runs=400, progress=False)
+    >>> mc.runs, mc.position.shape
+    (400, (400, 101))
+    >>> bool(abs(mc.envelope(q=(50,))[50][-1] / (0.5 * 1.5382) - 1) < 0.05)
+    True
     """
     if vertical not in ("free", "hold"):
         raise ImunavError(f"vertical must be 'free' or 'hold', got {vertical!r}",

@@ -21,12 +21,49 @@ from imunav.strapdown.registry import ALGORITHMS, navigate
 
 def initial_state(motion: BaseMotion, signals: ImuSignals) -> tuple[FloatArray, FloatArray,
                                                                       FloatArray]:
-    """The true ``(q0, v0, p0)`` of ``motion`` at the signals' start time ``signals.t0``."""
+    """The true initial state of ``motion`` at the signals' start time ``signals.t0``.
+
+    Parameters
+    ----------
+    motion : BaseMotion
+        The motion the signals were simulated from.
+    signals : ImuSignals
+        The signals (their :attr:`~imunav.sensors.signals.ImuSignals.t0`: the first sample
+        for rates, the start of the first interval for increments).
+
+    Returns
+    -------
+    q0 : ndarray, shape (4,)
+        ``q_nb`` at ``t0``.
+    v0 : ndarray, shape (3,)
+        Velocity (m/s, NED).
+    p0 : ndarray, shape (3,)
+        Position (m, NED).
+
+    Raises
+    ------
+    ImunavError
+        If the motion cannot be evaluated at ``t0``.
+    """
     return motion.states([signals.t0]).initial()
 
 
 @dataclass
 class RoundTrip:
+    """One round trip: a motion, its ideal signals, their navigation and its errors.
+
+    Attributes
+    ----------
+    motion : BaseMotion
+        The truth.
+    signals : ImuSignals
+        The ideal signals simulated from it.
+    nav : States
+        Their navigation from the true initial state.
+    errors : NavErrors
+        ``nav`` against ``motion``.
+    """
+
     motion: BaseMotion
     signals: ImuSignals
     nav: States
@@ -35,8 +72,42 @@ class RoundTrip:
 
 def round_trip(motion: BaseMotion | None = None, rate: float = 100.0, output: str = "increments",
                algorithm: str | None = None, duration: float | None = None) -> RoundTrip:
-    """Simulate ideal signals for ``motion`` (default: the figure-eight) and navigate them back
-    from the true initial state."""
+    """Simulate ideal signals for a motion and navigate them back from the true initial state.
+
+    What is left is the algorithm's own error (and rounding): with ideal signals and the true
+    initial state nothing else differs.
+
+    Parameters
+    ----------
+    motion : BaseMotion, optional
+        The motion; default the figure-eight of :func:`~imunav.motion.catalog.figure_eight`.
+    rate : float, default 100.0
+        Sample rate (Hz).
+    output : {"rates", "increments"}, default "increments"
+        The signal kind.
+    algorithm : str, optional
+        A name from ``ALGORITHMS[output]``; default the most accurate.
+    duration : float, optional
+        Seconds; default the motion's own.
+
+    Returns
+    -------
+    RoundTrip
+
+    Raises
+    ------
+    ImunavError
+        For the reasons of :func:`~imunav.sensors.simulate.simulate_imu` and
+        :func:`~imunav.strapdown.registry.navigate` (an unknown ``output`` or ``algorithm``,
+        a ``rate`` or ``duration`` that is not a finite number > 0, …).
+
+    Examples
+    --------
+    >>> from imunav.motion import Motion
+    >>> rt = round_trip(Motion(yaw="0.5*t", x="t**2", duration=2.0), rate=50)
+    >>> rt.nav.algorithm, rt.errors.summary()["max_position"] < 1e-12
+    ('poly8_m6', True)
+    """
     motion = motion or figure_eight()
     sig = simulate_imu(motion, rate, duration, output=output)
     nav = navigate(sig, *initial_state(motion, sig), algorithm=algorithm)
@@ -45,8 +116,33 @@ def round_trip(motion: BaseMotion | None = None, rate: float = 100.0, output: st
 
 def error_table(motion: BaseMotion | None = None, rates=(50, 100, 200, 400),
                 duration: float | None = None) -> list[dict]:
-    """Maximum position / attitude error of every algorithm at several rates, with fitted
-    orders."""
+    """Maximum position and attitude error of every algorithm at several rates, with fitted
+    orders.
+
+    Every registered algorithm of both signal kinds makes one :func:`round_trip` per rate.
+
+    Parameters
+    ----------
+    motion : BaseMotion, optional
+        The motion; default the figure-eight.
+    rates : sequence of float, default (50, 100, 200, 400)
+        Sample rates (Hz).
+    duration : float, optional
+        Seconds; default the motion's own.
+
+    Returns
+    -------
+    list of dict
+        One row per algorithm: ``kind``, ``algorithm``, ``att_<rate>`` (rad) and
+        ``pos_<rate>`` (m) for each rate, and ``order_att``, ``order_pos``: the fitted
+        convergence orders over the rates whose errors are above rounding
+        (:data:`FLOOR_ATT`, :data:`FLOOR_POS`), or None if fewer than three are.
+
+    Raises
+    ------
+    ImunavError
+        For the reasons of :func:`round_trip`.
+    """
     motion = motion or figure_eight()
     rows = []
     for kind, table in ALGORITHMS.items():

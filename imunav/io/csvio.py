@@ -198,6 +198,19 @@ class CsvWriter:
         self.rows = 0
 
     def write(self, columns: Sequence[np.ndarray]) -> None:
+        """Queue the next rows for formatting and writing.
+
+        Parameters
+        ----------
+        columns : sequence of ndarray
+            1-D arrays (one column each) and 2-D arrays (one column per component), all of
+            the same length, as many columns as the header in all.
+
+        Raises
+        ------
+        ValueError
+            If the columns do not add up to the header's width.
+        """
         cols = []
         for c in columns:
             c = np.asarray(c, dtype=np.float64)
@@ -212,6 +225,13 @@ class CsvWriter:
             self.fh.write(self.pending.popleft().result())
 
     def close(self) -> None:
+        """Write what is pending and rename the temporary file to ``path``.
+
+        Raises
+        ------
+        OSError
+            If the file cannot be written or renamed (the temporary file is removed).
+        """
         try:
             while self.pending:
                 self.fh.write(self.pending.popleft().result())
@@ -224,6 +244,7 @@ class CsvWriter:
             raise
 
     def abort(self) -> None:
+        """Drop the pending rows and remove the temporary file: ``path`` is left untouched."""
         for f in self.pending:
             f.cancel()
         self.pending.clear()

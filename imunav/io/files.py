@@ -58,11 +58,45 @@ SPACING_TOLERANCE = 1e-6
 
 
 def load_motion_toml(path: str | Path) -> tuple[Motion, float, float | None]:
-    """Read ``MOTION.toml`` → ``(motion, duration, g or None)``.
+    """Read a ``MOTION.toml`` of analytic laws.
 
     Top-level ``duration`` (s, required, a number > 0) and optional ``g`` (m/s², > 0); tables
-    ``[position]`` (``x``, ``y``, ``z``) and ``[attitude]`` (``yaw``, ``pitch``, ``roll``),
-    each a law in ``t`` (see :mod:`imunav.motion.laws`); missing entries are 0.
+    ``[position]`` (``x``, ``y``, ``z``: m, NED) and ``[attitude]`` (``yaw``, ``pitch``,
+    ``roll``: rad, Z-Y-X), each a law in ``t`` (see :mod:`imunav.motion.laws`); missing entries
+    are 0.
+
+    Parameters
+    ----------
+    path : str or Path
+        The TOML file; its stem names the motion.
+
+    Returns
+    -------
+    motion : Motion
+        The analytic motion.
+    duration : float
+        Its duration (s).
+    g : float or None
+        The gravity magnitude (m/s²) the file sets, or None.
+
+    Raises
+    ------
+    ImunavError
+        If the file cannot be read or is not TOML, ``duration`` is missing or not a finite
+        number > 0, ``g`` is not a finite number > 0, or a table, key or law is refused by
+        :meth:`Motion.from_dict <imunav.motion.analytic.Motion.from_dict>`; the message starts
+        with the path.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> path = pathlib.Path(tmp.name) / "turn.toml"
+    >>> _ = path.write_text('duration = 2.0\\n[attitude]\\nyaw = "0.5*t"\\n')
+    >>> motion, duration, g = load_motion_toml(path)
+    >>> duration, g, motion.name
+    (2.0, None, 'turn')
+    >>> tmp.cleanup()
     """
     path = Path(path)
     spec = read_toml(path, "motion file")
@@ -77,14 +111,38 @@ def load_motion_toml(path: str | Path) -> tuple[Motion, float, float | None]:
 
 def load_motion(path: str | Path, *, smoothing: float | None = None,
                 attitude_smoothing: float | None = None) -> tuple[BaseMotion, float, float | None]:
-    """Any motion file → ``(motion, duration, g or None)``.
+    """Read any motion file, telling the formats apart by extension and content.
 
     ``*.csv``: poses (header ``t,x,y,z,qw,qx,qy,qz``, or a truth CSV) → a
-    :class:`~imunav.motion.trajectory.PoseMotion` (``smoothing``, ``attitude_smoothing``: noise
-    levels in m and rad for smoothing splines). ``*.toml`` with ``[[waypoint]]`` tables → a
-    :class:`~imunav.motion.trajectory.WaypointMotion` (:func:`load_waypoints`); any other TOML →
-    analytic laws (:func:`load_motion_toml`). Times of data motions start at the first pose or
-    waypoint (the motion's t = 0 is that time).
+    :class:`~imunav.motion.trajectory.PoseMotion` (:func:`load_poses`). ``*.toml`` with
+    ``[[waypoint]]`` tables → a :class:`~imunav.motion.trajectory.WaypointMotion`
+    (:func:`load_waypoints`); any other TOML → analytic laws (:func:`load_motion_toml`). Times
+    of data motions start at the first pose or waypoint (the motion's t = 0 is that time).
+
+    Parameters
+    ----------
+    path : str or Path
+        The motion file.
+    smoothing : float, optional
+        Pose CSVs only: the position noise level (m) of a smoothing spline; default
+        interpolating.
+    attitude_smoothing : float, optional
+        Pose CSVs only: the attitude noise level (rad) of a smoothing spline.
+
+    Returns
+    -------
+    motion : BaseMotion
+        The motion.
+    duration : float
+        Its duration (s).
+    g : float or None
+        The gravity magnitude (m/s²) the file sets (never for a pose CSV), or None.
+
+    Raises
+    ------
+    ImunavError
+        If ``smoothing`` or ``attitude_smoothing`` is given for a TOML file, or for the
+        reasons of the reader the file goes to.
     """
     path = Path(path)
     if path.suffix.lower() == ".csv":
@@ -100,7 +158,36 @@ def load_motion(path: str | Path, *, smoothing: float | None = None,
 
 def load_poses(path: str | Path, *, smoothing: float | None = None,
                attitude_smoothing: float | None = None) -> tuple[BaseMotion, float, None]:
-    """A pose CSV (``t,x,y,z,qw,qx,qy,qz``, or a truth CSV whose velocities are ignored)."""
+    """Read a pose CSV into a motion from data.
+
+    Parameters
+    ----------
+    path : str or Path
+        A CSV with header ``t,x,y,z,qw,qx,qy,qz`` (s, m NED, scalar-first ``q_nb``), or a
+        truth CSV (``t,x,y,z,vx,vy,vz,qw,qx,qy,qz``) whose velocities are ignored.
+    smoothing : float, optional
+        Position noise level (m) for a smoothing spline; default interpolating.
+    attitude_smoothing : float, optional
+        Attitude noise level (rad) for a smoothing spline; default interpolating.
+
+    Returns
+    -------
+    motion : PoseMotion
+        The motion (:class:`~imunav.motion.trajectory.PoseMotion`), t = 0 at the first pose.
+    duration : float
+        Its duration (s).
+    g : None
+        A pose file sets no gravity.
+
+    Raises
+    ------
+    ImunavError
+        If the file is missing, not UTF-8 or empty; its header is neither of the two; a row
+        is malformed or not finite (with its line); the data would not fit in memory; or
+        :class:`~imunav.motion.trajectory.PoseMotion` refuses the poses (too few for a
+        quintic spline, times not increasing, a quaternion not of unit norm, a smoothing level
+        that is not a positive number). Every message starts with the path.
+    """
     path = Path(path)
     header = read_header(path, "pose")
     if header not in (POSE_HEADER, STATE_HEADER):
@@ -130,9 +217,50 @@ WAYPOINT_UNITS = {"t": "s", "x": "m", "y": "m", "z": "m", "yaw": "rad", "pitch":
 
 def load_waypoints(path: str | Path, spec: dict | None = None
                    ) -> tuple[BaseMotion, float, float | None]:
-    """A waypoints TOML: ``[[waypoint]]`` tables with ``t``, ``x``, ``y``, ``z`` (s, m, NED) and
-    optional ``yaw``, ``pitch``, ``roll`` (rad), plus top-level ``orientation = "given" |
-    "follow"`` (default given) and optional ``g`` (m/s²) and ``name``."""
+    """Read a waypoints TOML into a route through the waypoints.
+
+    ``[[waypoint]]`` tables with ``t``, ``x``, ``y``, ``z`` (s, m, NED) and optional ``yaw``,
+    ``pitch``, ``roll`` (rad), plus top-level ``orientation = "given" | "follow"`` (default
+    given) and optional ``g`` (m/s²) and ``name``.
+
+    Parameters
+    ----------
+    path : str or Path
+        The TOML file (named in messages; its stem names the motion unless ``name`` is set).
+    spec : dict, optional
+        The file's parsed table, if already read; default read ``path``.
+
+    Returns
+    -------
+    motion : WaypointMotion
+        The route (:class:`~imunav.motion.trajectory.WaypointMotion`), t = 0 at the first
+        waypoint.
+    duration : float
+        Its duration (s).
+    g : float or None
+        The gravity magnitude (m/s²) the file sets, or None.
+
+    Raises
+    ------
+    ImunavError
+        If the file cannot be read; it has an unknown top-level key, an ``orientation`` other
+        than ``"given"`` or ``"follow"``, fewer than 2 waypoints, or a ``g`` that is not a
+        finite number > 0; a waypoint has an unknown or missing key, a value that is not a
+        finite number, attitude with ``orientation = "follow"``, or a time not after the
+        previous one; or the route cannot be built. Messages start with the path.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> path = pathlib.Path(tmp.name) / "route.toml"
+    >>> _ = path.write_text("[[waypoint]]\\nt = 0\\nx = 0\\ny = 0\\nz = 0\\n"
+    ...                     "[[waypoint]]\\nt = 10\\nx = 50\\ny = 0\\nz = 0\\n")
+    >>> motion, duration, g = load_waypoints(path)
+    >>> duration, g
+    (10.0, None)
+    >>> tmp.cleanup()
+    """
     path = Path(path)
     spec = read_toml(path, "waypoints file") if spec is None else spec
     bad = sorted(set(spec) - WAYPOINT_TOP)
@@ -190,6 +318,35 @@ class SignalFile:
     The kind comes from the header; the sample rate from the time column of the first chunk
     (at least two rows); every later row is checked as it is read: strictly increasing times,
     uniformly spaced (to 1e-6 of the interval). :meth:`chunks` yields ``(t, gyro, accel)``.
+
+    Parameters
+    ----------
+    path : str or Path
+        A CSV with header ``t,gx,gy,gz,ax,ay,az`` (s, rad/s, m/s²) or
+        ``t,dthx,dthy,dthz,dvx,dvy,dvz`` (s, rad, m/s).
+    g : float, optional
+        Gravity magnitude (m/s²) the signals were made with; default G0.
+
+    Attributes
+    ----------
+    kind : {"rates", "increments"}
+        From the header.
+    rate : float
+        Sample rate (Hz), inferred from the first rows (to 12 significant digits).
+    dt : float
+        ``1/rate`` (s).
+    t_first : float
+        Time of the first row (s).
+    rows : int
+        Data rows read so far.
+
+    Raises
+    ------
+    ImunavError
+        If the file is missing, not UTF-8 or empty; its header is neither; it has fewer than
+        2 data rows; the first times do not increase; or ``g`` is not a valid gravity.
+        :meth:`chunks` raises later for a malformed row or times not uniformly spaced, naming
+        the path and the row.
     """
 
     def __init__(self, path: str | Path, g: float | None = None):
@@ -247,7 +404,23 @@ class SignalFile:
                               f"t = {tt[i + 1]:.9g} s after {tt[i]:.9g} s")
 
     def chunks(self) -> Iterator[tuple[FloatArray, FloatArray, FloatArray]]:
-        """``(t, gyro, accel)`` chunks of the whole file, checked as they are read."""
+        """The whole file in chunks, checked as they are read.
+
+        Yields
+        ------
+        t : ndarray, shape (n,)
+            Sample times (s); interval ends for increments.
+        gyro : ndarray, shape (n, 3)
+            ω_b (rad/s) or Δθ (rad).
+        accel : ndarray, shape (n, 3)
+            f_b (m/s²) or Δv (m/s).
+
+        Raises
+        ------
+        ImunavError
+            For a malformed or non-finite row, or times not strictly increasing or not
+            uniformly spaced (the message names the path and the row).
+        """
         for data in self._data():
             yield data[:, 0], data[:, 1:4], data[:, 4:7]
 
@@ -264,7 +437,41 @@ class SignalFile:
 
 
 def read_signals(path: str | Path, g: float | None = None) -> ImuSignals:
-    """Read a whole rates or increments CSV (see :class:`SignalFile`) into memory."""
+    """Read a whole rates or increments CSV into memory.
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV (see :class:`SignalFile` for the headers and checks).
+    g : float, optional
+        Gravity magnitude (m/s²) the signals were made with; default G0.
+
+    Returns
+    -------
+    ImuSignals
+        The signals, their kind from the header and their rate from the times.
+
+    Raises
+    ------
+    ImunavError
+        For the reasons of :class:`SignalFile`, or if the file would not fit in memory
+        (``imunav navigate`` streams files of any length).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> import numpy as np
+    >>> from imunav.sensors.signals import ImuSignals
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> path = pathlib.Path(tmp.name) / "imu.csv"
+    >>> sig = ImuSignals(t=np.arange(3) / 100, gyro=np.zeros((3, 3)),
+    ...                  accel=np.tile([0.0, 0.0, -9.80665], (3, 1)), kind="rates", rate=100)
+    >>> write_signals(path, sig)
+    >>> back = read_signals(path)
+    >>> back.kind, back.rate, bool((back.accel == sig.accel).all())
+    ('rates', 100.0, True)
+    >>> tmp.cleanup()
+    """
     f = SignalFile(path, g)
     check_memory(4 * Path(path).stat().st_size, f"reading {path} into memory",
                  "imunav navigate streams files of any length")
@@ -303,8 +510,26 @@ def _states(path: Path, data: np.ndarray, frame: str = "flat") -> States:
 
 
 def read_initial_state(path: str | Path) -> States:
-    """The first data row of a truth/navigation CSV (the rest of the file is not read); its
-    frame from the header (WGS-84 latitude and longitude read in degrees, returned in radians)."""
+    """The first data row of a truth/navigation CSV (the rest of the file is not read).
+
+    Parameters
+    ----------
+    path : str or Path
+        A CSV with header ``t,x,y,z,vx,vy,vz,qw,qx,qy,qz`` (flat frame: s, m, m/s NED,
+        ``q_nb``) or ``t,lat,lon,alt,vn,ve,vd,qw,qx,qy,qz`` (WGS-84: degrees, m, m/s).
+
+    Returns
+    -------
+    States
+        One state, its ``frame`` from the header (WGS-84 latitude and longitude returned in
+        radians).
+
+    Raises
+    ------
+    ImunavError
+        If the file is missing or empty, its header is neither, it has no data rows, the row
+        is malformed or not finite, the quaternion is zero, or a latitude is beyond ±90°.
+    """
     path = Path(path)
     header, frame = _states_header(path)
     row = first_row(path, header, "state")
@@ -314,7 +539,35 @@ def read_initial_state(path: str | Path) -> States:
 
 
 def read_states(path: str | Path) -> States:
-    """Read a whole truth/navigation CSV (either frame, see :func:`read_initial_state`)."""
+    """Read a whole truth/navigation CSV (either frame, see :func:`read_initial_state`).
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV.
+
+    Returns
+    -------
+    States
+        Every row, positions in m (flat) or ``[lat, lon, h]`` in rad, rad, m (WGS-84).
+
+    Raises
+    ------
+    ImunavError
+        For the reasons of :func:`read_initial_state`, or if the times do not strictly
+        increase (with the row).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from imunav.motion import Motion
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> path = pathlib.Path(tmp.name) / "truth.csv"
+    >>> write_states(path, Motion(x="2*t").states([0.0, 0.5, 1.0]))
+    >>> read_states(path).position[:, 0]
+    array([0., 1., 2.])
+    >>> tmp.cleanup()
+    """
     path = Path(path)
     header, frame = _states_header(path)
     parts = list(read_chunks(path, header, "state"))
@@ -355,20 +608,53 @@ def state_columns(states: States) -> list[FloatArray]:
 
 
 def write_signals(path: str | Path, sig: ImuSignals) -> None:
-    """Write rates or increments with the exact header of their kind."""
+    """Write rates or increments with the exact header of their kind.
+
+    The file appears only when complete (a temporary file renamed at the end); every number
+    is the shortest decimal that reads back as the same double.
+
+    Parameters
+    ----------
+    path : str or Path
+        The output CSV (its directory must exist).
+    sig : ImuSignals
+        The signals: ``t,gx,gy,gz,ax,ay,az`` for rates, ``t,dthx,dthy,dthz,dvx,dvy,dvz`` for
+        increments.
+    """
     with signals_writer(path, sig.kind) as w:
         w.write([sig.t, sig.gyro, sig.accel])
 
 
 def write_states(path: str | Path, states: States) -> None:
-    """Write a truth or navigation file ``t,x,y,z,vx,vy,vz,qw,qx,qy,qz`` (or, on the WGS-84
-    Earth, ``t,lat,lon,alt,vn,ve,vd,qw,qx,qy,qz``)."""
+    """Write a truth or navigation CSV, the header of its frame.
+
+    ``t,x,y,z,vx,vy,vz,qw,qx,qy,qz`` (s, m, m/s, NED, ``q_nb``), or on the WGS-84 Earth
+    ``t,lat,lon,alt,vn,ve,vd,qw,qx,qy,qz`` (latitude and longitude written in degrees). The
+    file appears only when complete.
+
+    Parameters
+    ----------
+    path : str or Path
+        The output CSV (its directory must exist).
+    states : States
+        The states to write.
+    """
     with states_writer(path, states.frame) as w:
         w.write(state_columns(states))
 
 
 def write_json(r: dict, path: str | Path) -> None:
-    """Write a result dictionary (``imunav assess --json``) as indented JSON."""
+    """Write a result dictionary (``imunav assess --json``) as indented JSON.
+
+    The file appears only when complete (a temporary file renamed at the end).
+
+    Parameters
+    ----------
+    r : dict
+        JSON-serialisable results (numbers, strings, lists, dicts).
+    path : str or Path
+        The output file (its directory must exist).
+    """
     atomic_write_text(path, json.dumps(r, indent=1) + "\n")
 
 

@@ -87,8 +87,56 @@ def _signals(t, gyro, accel, path) -> ImuSignals:
 def read_generic(path: str | Path, *, gyro_columns, accel_columns, gyro_units: str = "rad/s",
                  accel_units: str = "m/s^2", time_column: str | None = None,
                  time_units: str = "s", rate: float | None = None) -> Recording:
-    """A CSV with a header: name the gyro and accel columns (x, y, z) and their units, and
-    either a time column (with units) or a sample rate (Hz)."""
+    """Read a CSV recording with a header, naming its columns and their units.
+
+    Times start at 0 at the first row; the samples must be uniformly spaced (to 5 %).
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV (a header line, then numeric rows).
+    gyro_columns : sequence of str
+        The three gyro columns (body x, y, z).
+    accel_columns : sequence of str
+        The three accelerometer columns (body x, y, z): specific force, ``[0, 0, −g]`` level
+        at rest in imunav's convention.
+    gyro_units : str, default "rad/s"
+        Their unit (e.g. ``"deg/s"``), converted to rad/s.
+    accel_units : str, default "m/s^2"
+        Their unit (e.g. ``"g"``), converted to m/s².
+    time_column : str, optional
+        The time column; give it or ``rate``.
+    time_units : str, default "s"
+        Its unit (e.g. ``"ms"``, ``"us"``), converted to s.
+    rate : float, optional
+        Sample rate (Hz) when there is no time column.
+
+    Returns
+    -------
+    Recording
+        Rate signals in SI, ``meta={"path": ...}``, no device orientation.
+
+    Raises
+    ------
+    ImunavError
+        If a unit is unknown or of the wrong kind; the file is missing, malformed, not finite
+        or has fewer than 2 data rows; a named column is absent; ``gyro_columns`` or
+        ``accel_columns`` does not name 3 columns; neither ``time_column`` nor ``rate`` is
+        given, or ``rate`` is not a finite number > 0; or the times are not strictly
+        increasing or vary by more than 5 %.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> tmp = tempfile.TemporaryDirectory()
+    >>> path = pathlib.Path(tmp.name) / "rec.csv"
+    >>> _ = path.write_text("ms,gx,gy,gz,ax,ay,az\\n0,0,0,90,0,0,-1\\n10,0,0,90,0,0,-1\\n")
+    >>> rec = read_generic(path, gyro_columns=["gx", "gy", "gz"], accel_columns=["ax", "ay", "az"],
+    ...                    gyro_units="deg/s", accel_units="g", time_column="ms", time_units="ms")
+    >>> round(rec.signals.rate, 9), rec.signals.omega[0].round(6), rec.signals.specific_force[0]
+    (100.0, array([0.      , 0.      , 1.570796]), array([ 0.     ,  0.     , -9.80665]))
+    >>> tmp.cleanup()
+    """
     path = Path(path)
     gs = factor(gyro_units, "rate", "gyro units")
     as_ = factor(accel_units, "accel", "accel units")
@@ -114,8 +162,34 @@ def read_generic(path: str | Path, *, gyro_columns, accel_columns, gyro_units: s
 
 
 def read_ximu3(folder: str | Path | None = None) -> Recording:
-    """x-IMU3 ``Inertial.csv`` (+ ``Quaternion.csv`` if present): timestamps in µs, gyro deg/s,
-    accel g. Default: the recording shipped with imunav. ``device_q`` is [W, X, Y, Z] as stored.
+    """Read an x-io x-IMU3 recording: ``Inertial.csv`` (+ ``Quaternion.csv`` if present).
+
+    Timestamps in µs, gyro in deg/s and accelerometer in g are converted to s, rad/s and m/s²;
+    times start at 0 at the first inertial sample.
+
+    Parameters
+    ----------
+    folder : str or Path, optional
+        The folder holding the files; default the recording shipped with imunav (BSD-3).
+
+    Returns
+    -------
+    Recording
+        Rate signals; ``device_t`` and ``device_q`` (``[W, X, Y, Z]`` as stored) when
+        ``Quaternion.csv`` exists; ``meta={"device": "x-IMU3"}``.
+
+    Raises
+    ------
+    ImunavError
+        If ``Inertial.csv`` is missing, malformed or has fewer than 2 rows; its header is not
+        an x-IMU3 inertial header; a value is not finite; or the times are not strictly
+        increasing or vary by more than 5 %.
+
+    Examples
+    --------
+    >>> rec = read_ximu3()
+    >>> len(rec.signals), rec.device_q.shape, rec.meta
+    (500, (500, 4), {'device': 'x-IMU3'})
     """
     folder = Path(folder) if folder else data_path("real_imu", "xio_ximu3")
     header, d = _read_table(folder / "Inertial.csv")
@@ -136,10 +210,38 @@ def read_ximu3(folder: str | Path | None = None) -> Recording:
 
 
 def read_ximu(folder: str | Path | None = None, rate: float = 256.0) -> Recording:
-    """x-IMU ``*_CalInertialAndMag.csv`` (+ ``*_Quaternion.csv``): packet number, gyro deg/s,
-    accel g (magnetometer ignored). Inertial samples are consecutive at ``rate`` (register
-    code 9 = 256 Hz); the quaternion packets are timed by interpolating packet numbers.
-    ``device_q`` is the four "Element" columns as stored."""
+    """Read an x-io x-IMU recording: ``*_CalInertialAndMag.csv`` (+ ``*_Quaternion.csv``).
+
+    Packet number, gyro in deg/s and accelerometer in g (magnetometer ignored) are converted
+    to rad/s and m/s². Inertial samples are consecutive at ``rate``; the quaternion packets
+    are timed by interpolating packet numbers.
+
+    Parameters
+    ----------
+    folder : str or Path, optional
+        The folder holding the files; default the recording shipped with imunav (BSD-3).
+    rate : float, default 256.0
+        The inertial sample rate (Hz): the device's register code 9 = 256 Hz.
+
+    Returns
+    -------
+    Recording
+        Rate signals from t = 0; ``device_t`` and ``device_q`` (the four "Element" columns as
+        stored) when a quaternion file exists; ``meta`` with ``"device"`` and ``"packets"``.
+
+    Raises
+    ------
+    ImunavError
+        If no ``*_CalInertialAndMag.csv`` is in ``folder``; it is malformed, has fewer than 2
+        rows or is not an x-IMU calibrated inertial file; a value is not finite; or ``rate``
+        is not a finite number > 0.
+
+    Examples
+    --------
+    >>> rec = read_ximu()
+    >>> rec.signals.rate, len(rec.signals), rec.meta["device"]
+    (256.0, 12626, 'x-IMU')
+    """
     folder = Path(folder) if folder else data_path("real_imu", "xio_ximu")
     files = sorted(folder.glob("*_CalInertialAndMag.csv"))
     if not files:

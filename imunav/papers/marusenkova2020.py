@@ -312,6 +312,7 @@ def restore_physical(motion: Motion, rate: float, duration: float, kind: str, sc
 
 
 def motion_g(sig) -> float:
+    """The gravity magnitude (m/s²) the signals ``sig`` were simulated with (``sig.g``)."""
     return float(sig.g)
 
 

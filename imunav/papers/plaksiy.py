@@ -101,6 +101,20 @@ def rotation_quaternion(phi: npt.ArrayLike, form: str = "exact") -> FloatArray:
 
 @dataclass
 class DriftRun:
+    """One drift run of Miller's algorithm (:func:`drift`).
+
+    Attributes
+    ----------
+    t : ndarray, shape (N,)
+        Times (s).
+    drift : ndarray, shape (N,)
+        Cumulative attitude drift (rad) at ``t``.
+    alpha, beta : float
+        The algorithm's coefficients.
+    form : str
+        The quaternion update form (one of :data:`UPDATE_FORMS`).
+    """
+
     t: FloatArray
     drift: FloatArray
     alpha: float
@@ -109,6 +123,7 @@ class DriftRun:
 
     @property
     def final(self) -> float:
+        """The drift at the last time (rad): what the paper's Table 1 lists."""
         return float(self.drift[-1])
 
 

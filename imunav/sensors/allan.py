@@ -12,16 +12,69 @@ from imunav.core.rotations import FloatArray
 
 
 def gauss_markov_allan_variance(tau: FloatArray, sigma: float, T: float) -> FloatArray:
-    """Allan variance of a first-order Gauss–Markov process (std σ, correlation time T)."""
+    """Allan variance of a first-order Gauss–Markov process (std σ, correlation time T).
+
+    ``σ²_A(τ) = (q T² / τ) [1 − (3 − 4 e^{−τ/T} + e^{−2τ/T}) / (2τ/T)]`` with ``q = 2σ²/T``:
+    it rises as ``2σ²τ/(3T)`` for τ ≪ T, peaks near τ ≈ 1.89 T and falls as ``2σ²T/τ`` for τ ≫ T.
+
+    Parameters
+    ----------
+    tau : ndarray
+        Averaging times (s), > 0; any shape.
+    sigma : float
+        The process's steady-state standard deviation (its unit, e.g. rad/s for a gyro bias).
+    T : float
+        Correlation time (s), > 0.
+
+    Returns
+    -------
+    ndarray
+        The Allan variance at each ``tau`` (the unit of ``sigma``, squared), shaped like ``tau``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> gauss_markov_allan_variance(np.array([1.0, 100.0]), sigma=1.0, T=1.0).round(4)
+    array([0.3362, 0.0197])
+    """
     q = 2 * sigma**2 / T
     x = tau / T
     return q * T**2 / tau * (1 - (3 - 4 * np.exp(-x) + np.exp(-2 * x)) / (2 * x))
 
 
 def allan_deviation(x: FloatArray, rate: float, taus=None) -> tuple[FloatArray, FloatArray]:
-    """Overlapping Allan deviation of rate samples ``x`` (n,) or (n, k) at ``rate`` Hz.
+    """Overlapping Allan deviation of rate samples.
 
-    Returns ``(taus, adev)`` with ``adev`` of shape (len(taus),) or (len(taus), k).
+    The samples are integrated (``θ_j = Σ x / rate``) and, for each cluster size m,
+    ``σ²(τ) = ⟨(θ_{j+2m} − 2θ_{j+m} + θ_j)²⟩ / (2τ²)`` with ``τ = m / rate``.
+
+    Parameters
+    ----------
+    x : ndarray, shape (n,) or (n, k)
+        Rate samples (e.g. ω_b in rad/s or f_b in m/s²), one column per axis.
+    rate : float
+        Sample rate (Hz).
+    taus : array_like, optional
+        Averaging times (s) wanted; each is rounded to a whole number of samples (at least 1)
+        and those beyond ``(n − 1) // 2`` samples are dropped. Default: 40 log-spaced cluster
+        sizes from 1 sample to ``n // 3``.
+
+    Returns
+    -------
+    taus : ndarray, shape (m,)
+        The averaging times used (s), increasing and distinct.
+    adev : ndarray, shape (m,) or (m, k)
+        The Allan deviation at each τ (the unit of ``x``).
+
+    Examples
+    --------
+    White noise of σ = 0.1 at 100 Hz has σ(τ) = 0.1 / √(100 τ):
+
+    >>> import numpy as np
+    >>> x = np.random.default_rng(0).normal(0.0, 0.1, 100_000)
+    >>> taus, adev = allan_deviation(x, rate=100, taus=[0.1, 1.0])
+    >>> taus, adev.round(3)
+    (array([0.1, 1. ]), array([0.032, 0.01 ]))
     """
     x = np.asarray(x, float)
     n = x.shape[0]
@@ -79,9 +132,38 @@ def fit_allan(x: FloatArray, rate: float, *, min_share: float = 0.5, min_decades
     over at least ``min_decades`` of the measured τ and its estimate's relative standard error
     is below ``max_rel_se``; otherwise it is dropped with the reason, and the rest refitted.
 
-    Returns ``{"taus", "avar", "dof", "terms": {name: {"value", "se", "tau_range"} or
-    {"value": None, "why"}}, "model"}`` (SI: rad/s/√Hz, rad/s, rad/s/√s for a gyro); ``se`` is
-    the Allan deviation's sampling error where the term dominates most (:func:`_rel_se`).
+    Parameters
+    ----------
+    x : ndarray, shape (n,) or (n, k)
+        Rate samples of a static record (rad/s for a gyro, m/s² for an accelerometer).
+    rate : float
+        Sample rate (Hz).
+    min_share : float, default 0.5
+        The share of the model's Allan variance a term must exceed to count as dominating.
+    min_decades : float, default 0.5
+        The span of τ (decades) over which a term must dominate to be kept.
+    max_rel_se : float, default 0.3
+        The largest relative standard error of a kept term.
+
+    Returns
+    -------
+    dict
+        ``"taus"`` (s) and ``"avar"`` (the axis-averaged Allan variance), ``"adev_axes"`` (the
+        Allan deviation per axis, shape (m, k)), ``"dof"`` (degrees of freedom at each τ),
+        ``"terms"`` (for each name of :data:`FIT_TERMS` either ``{"value", "se",
+        "tau_range"}`` or ``{"value": None, "why"}``), ``"model"`` (the fitted Allan deviation
+        at ``taus``), ``"samples"`` (n) and ``"rate"``. Values are SI: rad/s/√Hz, rad/s and
+        rad/s/√s for a gyro (m/s²/√Hz, m/s² and m/s²/√s for an accelerometer);
+        ``se`` is the Allan deviation's sampling error where the term dominates most.
+
+    Examples
+    --------
+    White noise of σ = 0.1 rad/s at 100 Hz is a noise density of 0.1/√100 = 0.01 rad/s/√Hz:
+
+    >>> import numpy as np
+    >>> fit = fit_allan(np.random.default_rng(0).normal(0.0, 0.1, 100_000), rate=100)
+    >>> round(fit["terms"]["noise_density"]["value"], 4), fit["terms"]["random_walk"]["value"]
+    (0.01, None)
     """
     from scipy.optimize import nnls
 

@@ -178,6 +178,11 @@ class TriadModel:
         Returns
         -------
         TriadModel
+
+        Examples
+        --------
+        >>> TriadModel(bias=1e-3, noise_density=1e-4).only("bias").active()
+        ['bias']
         """
         keep = {p.key for t in TERMS.values() for p in t.parameters_
                 if p.qualifier or not t.is_error} | ({term} if term else set())
@@ -190,7 +195,26 @@ def _triad_model(items) -> TriadModel:
 
 @dataclass(frozen=True)
 class ImuModel:
-    """A 6-axis IMU: gyro and accelerometer triads."""
+    """A 6-axis IMU: gyro and accelerometer triads.
+
+    Build one from a preset or a file with :meth:`load`, from a parsed ``IMU.toml`` with
+    :meth:`from_dict`, or directly from two :class:`TriadModel`. Frozen: compared by value.
+
+    Attributes
+    ----------
+    gyro : TriadModel
+        The gyro triad's errors (SI: rad/s, rad/√s …); default ideal.
+    accel : TriadModel
+        The accelerometer triad's errors (SI: m/s², m/s/√s …); default ideal.
+    name : str, default "custom"
+        A label for reports (a preset's name, a file's stem).
+
+    Examples
+    --------
+    >>> m = ImuModel(TriadModel(bias=1e-3), TriadModel(noise_density=2e-4), "demo")
+    >>> m.terms()
+    ['gyro.bias', 'accel.noise_density']
+    """
 
     gyro: TriadModel = field(default_factory=TriadModel)
     accel: TriadModel = field(default_factory=TriadModel)
@@ -198,6 +222,32 @@ class ImuModel:
 
     @classmethod
     def from_dict(cls, d: dict, name: str = "custom") -> ImuModel:
+        """Parse the tables of an ``IMU.toml`` (strings with units, or SI numbers).
+
+        Parameters
+        ----------
+        d : dict
+            ``{"gyro": {...}, "accel": {...}, "name": ...}``; every key optional, a missing
+            triad is ideal.
+        name : str, default "custom"
+            The model's name when ``d`` has no ``"name"``.
+
+        Returns
+        -------
+        ImuModel
+
+        Raises
+        ------
+        ImunavError
+            For a key other than ``gyro``, ``accel`` and ``name``, or a triad table
+            :meth:`TriadModel.from_dict` refuses.
+
+        Examples
+        --------
+        >>> m = ImuModel.from_dict({"gyro": {"bias": "1 deg/s", "internal_rate": 1000}})
+        >>> round(m.gyro.bias, 6), m.internal_rate
+        (0.017453, 1000.0)
+        """
         bad = sorted(set(d) - {"gyro", "accel", "name"})
         if bad:
             raise ImunavError(f"unknown table(s) in IMU file: {', '.join(bad)}; expected "
@@ -207,6 +257,23 @@ class ImuModel:
 
     @classmethod
     def from_toml(cls, path: str | Path) -> ImuModel:
+        """Read an ``IMU.toml`` file (``[gyro]`` and ``[accel]`` tables, values with units).
+
+        Parameters
+        ----------
+        path : str or Path
+            The file; its stem names the model unless it sets ``name``.
+
+        Returns
+        -------
+        ImuModel
+
+        Raises
+        ------
+        ImunavError
+            If the file cannot be read or is not valid TOML, or for the reasons of
+            :meth:`from_dict`.
+        """
         path = Path(path)
         d = read_toml(path, "IMU file")
         return cls.from_dict(d, path.stem)
@@ -249,19 +316,60 @@ class ImuModel:
                [f"accel.{t}" for t in self.accel.active()]
 
     def only(self, term: str | None) -> ImuModel:
-        """Keep one term (``"gyro.bias"``) — for error budgets; None → ideal."""
+        """A copy keeping only one term, for error budgets.
+
+        The term's qualifiers (e.g. a correlation time) and the settings such as the internal
+        rate are kept too (see :meth:`TriadModel.only`).
+
+        Parameters
+        ----------
+        term : str or None
+            ``"triad.term"`` as listed by :meth:`terms` (``"gyro.bias"``); None → ideal.
+
+        Returns
+        -------
+        ImuModel
+            Named ``"<name>:<term>"``.
+
+        Examples
+        --------
+        >>> m = ImuModel(TriadModel(bias=1e-3, noise_density=1e-4), name="demo")
+        >>> m.only("gyro.bias").terms()
+        ['gyro.bias']
+        """
         tri, _, name = (term or "").partition(".")
         return ImuModel(self.gyro.only(name if tri == "gyro" else None),
                         self.accel.only(name if tri == "accel" else None), f"{self.name}:{term}")
 
     @property
     def internal_rate(self) -> float | None:
+        """The sensor's internal sample rate (Hz): the larger of the triads', or None."""
         r = [x for x in (self.gyro.internal_rate, self.accel.internal_rate) if x]
         return max(r) if r else None
 
     def decimation(self, rate: float) -> int:
-        """How many internal samples make one output sample at ``rate`` Hz:
-        ``round(internal_rate / rate)``, at least 1 (1 without an internal rate)."""
+        """How many internal samples make one output sample at ``rate``.
+
+        Parameters
+        ----------
+        rate : float
+            Output rate (Hz), > 0.
+
+        Returns
+        -------
+        int
+            ``round(internal_rate / rate)``, at least 1 (1 without an internal rate).
+
+        Raises
+        ------
+        ImunavError
+            If ``rate`` is not a finite number > 0.
+
+        Examples
+        --------
+        >>> ImuModel(TriadModel(internal_rate=1000.0)).decimation(100)
+        10
+        """
         rate = check_positive(rate, "rate")
         return max(1, int(round((self.internal_rate or rate) / rate)))
 
@@ -369,10 +477,47 @@ class TriadStream:
 def apply_triad(m: TriadModel, ideal: FloatArray, kind: str, rate: float, rng,
                 other: FloatArray | None = None, decimate: int = 1
                 ) -> tuple[FloatArray, np.ndarray]:
-    """One run of one triad on a whole signal: ideal (n, 3) at ``rate`` → measured signal at
-    ``rate/decimate`` and the saturation flags per output sample (a :class:`TriadStream` fed
-    once). ``other`` is the ideal accelerometer signal (same kind) for the gyro's
-    g-sensitivity."""
+    """One run of one triad's errors on a whole signal (a :class:`TriadStream` fed once).
+
+    Parameters
+    ----------
+    m : TriadModel
+        The triad's errors.
+    ideal : ndarray, shape (n, 3)
+        Ideal samples at ``rate``: ω_b (rad/s) or f_b (m/s²) for rates, Δθ (rad) or Δv (m/s)
+        for increments.
+    kind : {"rates", "increments"}
+        What ``ideal`` holds.
+    rate : float
+        The rate of ``ideal`` (Hz): the sensor's internal rate.
+    rng : numpy.random.Generator
+        The run's random generator.
+    other : ndarray, shape (n, 3), optional
+        The ideal accelerometer signal (same kind) for a gyro's g-sensitivity.
+    decimate : int, default 1
+        Internal samples per output sample; the output is at ``rate / decimate``.
+
+    Returns
+    -------
+    measured : ndarray, shape (n // decimate, 3)
+        The measured signal, same kind and units as ``ideal``.
+    flags : ndarray of bool, shape (n // decimate,)
+        True where an output sample was clipped at the range.
+
+    Raises
+    ------
+    ImunavError
+        If ``rate`` is not a finite number > 0.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> y, clipped = apply_triad(TriadModel(range=1.0), np.full((2, 3), 2.0), "rates", 100,
+    ...                          np.random.default_rng(0))
+    >>> y, clipped
+    (array([[1., 1., 1.],
+           [1., 1., 1.]]), array([ True,  True]))
+    """
     return TriadStream(m, kind, rate, rng, decimate).process(ideal, other)
 
 
@@ -399,7 +544,24 @@ class MeasureStream:
 
     def process(self, gyro: FloatArray, accel: FloatArray
                 ) -> tuple[FloatArray, FloatArray, np.ndarray]:
-        """The next ideal chunks (n, 3) → ``(measured gyro, measured accel, clipped)``."""
+        """Apply the run's errors to the next ideal chunks.
+
+        Parameters
+        ----------
+        gyro : ndarray, shape (n, 3)
+            Ideal ω_b (rad/s) or Δθ (rad), as the stream's kind.
+        accel : ndarray, shape (n, 3)
+            Ideal f_b (m/s²) or Δv (m/s) of the same instants.
+
+        Returns
+        -------
+        gyro : ndarray, shape (n // decimate, 3)
+            Measured gyro output.
+        accel : ndarray, shape (n // decimate, 3)
+            Measured accelerometer output.
+        clipped : ndarray of bool, shape (n // decimate,)
+            True where either triad clipped an output sample at its range.
+        """
         gm, fg = self.gyro.process(gyro, other=accel)
         am, fa = self.accel.process(accel)
         return gm, am, fg | fa
@@ -407,5 +569,48 @@ class MeasureStream:
 
 def measure(model: ImuModel, gyro: FloatArray, accel: FloatArray, kind: str, rate: float,
             rng, decimate: int = 1) -> tuple[FloatArray, FloatArray, np.ndarray]:
-    """One run: ideal gyro and accel (n, 3) → measured (gyro, accel, saturation flags)."""
+    """One run of a 6-axis IMU's errors on whole ideal signals (a :class:`MeasureStream` fed
+    once).
+
+    Parameters
+    ----------
+    model : ImuModel
+        The sensor's errors.
+    gyro : ndarray, shape (n, 3)
+        Ideal ω_b (rad/s) or Δθ (rad).
+    accel : ndarray, shape (n, 3)
+        Ideal f_b (m/s²) or Δv (m/s) of the same instants.
+    kind : {"rates", "increments"}
+        What the signals hold.
+    rate : float
+        Their rate (Hz): the sensor's internal rate.
+    rng : numpy.random.Generator
+        The run's random generator.
+    decimate : int, default 1
+        Internal samples per output sample.
+
+    Returns
+    -------
+    gyro : ndarray, shape (n // decimate, 3)
+        Measured gyro output.
+    accel : ndarray, shape (n // decimate, 3)
+        Measured accelerometer output.
+    clipped : ndarray of bool, shape (n // decimate,)
+        True where an output sample was clipped at a range.
+
+    Raises
+    ------
+    ImunavError
+        If ``rate`` is not a finite number > 0.
+
+    Examples
+    --------
+    A turn-on bias is one constant per axis for the whole run:
+
+    >>> import numpy as np
+    >>> g, a, clipped = measure(ImuModel(TriadModel(bias=0.01)), np.zeros((3, 3)),
+    ...                         np.zeros((3, 3)), "rates", 100, np.random.default_rng(0))
+    >>> bool((g == g[0]).all()), bool(a.any()), bool(clipped.any())
+    (True, False, False)
+    """
     return MeasureStream(model, kind, rate, rng, decimate).process(gyro, accel)

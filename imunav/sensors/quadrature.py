@@ -77,10 +77,44 @@ def integrate_consecutive(f, t0: float, h: float, k0: int, k1: int, *, groups: i
                           block: int = BLOCK) -> FloatArray:
     """``∫ f dt`` over the intervals ``[t0 + k h, t0 + (k+1) h]``, ``k = k0 .. k1−1``.
 
-    ``f`` maps times (any shape) to values of shape ``t.shape + (3·groups,)``; convergence is
-    judged per group of three components (e.g. ω_b and f_b evaluated together). Blocks start at
-    multiples of ``block`` (so the result of an interval does not depend on how a long run is
-    chunked). Returns (k1 − k0, 3·groups).
+    Chebyshev blocks of ``block`` intervals, adaptive Gauss–Legendre for blocks that do not
+    converge (see the module's description). Blocks start at multiples of ``block``, so the
+    result of an interval does not depend on how a long run is chunked.
+
+    Parameters
+    ----------
+    f : callable
+        ``f(t)`` maps an array of times (s, any shape) to values of shape
+        ``t.shape + (3·groups,)`` (e.g. ω_b in rad/s and f_b in m/s² stacked).
+    t0 : float
+        Time of interval 0's start (s).
+    h : float
+        Interval length (s), > 0: ``1/rate``.
+    k0, k1 : int
+        The first interval and one past the last (``k1 > k0``).
+    groups : int, default 1
+        Groups of three components in ``f``'s values; convergence is judged per group.
+    block : int, default BLOCK
+        Intervals per Chebyshev block.
+
+    Returns
+    -------
+    ndarray, shape (k1 − k0, 3·groups)
+        One row per interval: the integral (e.g. Δθ in rad, Δv in m/s).
+
+    Raises
+    ------
+    ImunavError
+        If the fallback quadrature does not converge (see :func:`integrate_intervals`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> f = lambda t: np.stack([np.cos(t), np.sin(t), np.ones_like(t)], axis=-1)
+    >>> I = integrate_consecutive(f, 0.0, 0.5, 0, 4)
+    >>> k = np.arange(5) * 0.5
+    >>> bool(np.allclose(I[:, 0], np.diff(np.sin(k)), rtol=0, atol=1e-15))
+    True
     """
     nk = k1 - k0
     out = np.empty((nk, 3 * groups))
@@ -166,7 +200,7 @@ def _composite(f, a: FloatArray, b: FloatArray, panels: int, nodes: int) -> Floa
 def integrate_intervals(f, a: npt.ArrayLike, b: npt.ArrayLike, *, rtol: float = 1e-13,
                         atol: float = 1e-15, nodes: int = 8, max_panels: int = 1024,
                         budget: int = 2_000_000, width: int = 3) -> FloatArray:
-    """``∫_a^b f(t) dt`` for many intervals at once (``f``: ``t → (..., width)``).
+    """``∫_a^b f(t) dt`` for many intervals at once.
 
     Composite Gauss–Legendre with ``nodes`` points per panel; for each interval the number of
     panels is doubled until two successive estimates agree to ``atol + rtol·|I|`` in every
@@ -174,8 +208,43 @@ def integrate_intervals(f, a: npt.ArrayLike, b: npt.ArrayLike, *, rtol: float = 
     Far from t = 0 the integrand itself carries rounding (``ω t`` loses digits), so an
     interval whose difference has stopped shrinking (less than 4× per doubling — a converging
     8-node rule gains ~2¹⁶) and is below ``1e-10`` of its scale is accepted at that floor.
-    Raises if ``max_panels`` is reached otherwise. At most ``budget`` integrand points are
-    evaluated per call of ``f`` (bounded memory).
+
+    Parameters
+    ----------
+    f : callable
+        ``f(t)`` maps an array of times (s), shape (M, p), to values of shape (M, p, width).
+    a, b : array_like, shape (M,)
+        The intervals' start and end times (s).
+    rtol : float, default 1e-13
+        Relative tolerance per component.
+    atol : float, default 1e-15
+        Absolute tolerance per component (the unit of the integral).
+    nodes : int, default 8
+        Gauss–Legendre nodes per panel.
+    max_panels : int, default 1024
+        The most panels per interval before giving up.
+    budget : int, default 2_000_000
+        The most integrand points evaluated per call of ``f`` (bounded memory).
+    width : int, default 3
+        Components of ``f``'s values.
+
+    Returns
+    -------
+    ndarray, shape (M, width)
+        The integral over each interval.
+
+    Raises
+    ------
+    ImunavError
+        If ``a`` or ``b`` is not a 1-D finite array, or an interval has not converged at
+        ``max_panels`` panels (the motion is not smooth enough at this sample rate).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> f = lambda t: np.stack([np.cos(t), np.sin(t), np.ones_like(t)], axis=-1)
+    >>> integrate_intervals(f, [0.0], [np.pi / 2])
+    array([[1.        , 1.        , 1.57079633]])
     """
     a = as_float_array(a, "a", ndim=1)
     b = as_float_array(b, "b", ndim=1)

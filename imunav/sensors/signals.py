@@ -37,7 +37,27 @@ class ImuSignals:
     rate : float
         Sample rate (Hz); every interval of ``t`` is within 10 % of ``1/rate``.
     g : float
-        Gravity magnitude used (m/s²).
+        Gravity magnitude used (m/s²), ``g_n = [0, 0, +g]``.
+    meta : dict
+        Free-form information carried along (the IMU model's name, a recording's source …);
+        not read by the navigation.
+
+    Raises
+    ------
+    ImunavError
+        If ``kind`` is not ``"rates"`` or ``"increments"``, ``rate`` or ``g`` is not a finite
+        number > 0, an array is not finite or has the wrong shape (``t`` 1-D with at least one
+        sample, ``gyro`` and ``accel`` ``(M, 3)``), ``t`` does not strictly increase, or an
+        interval of ``t`` departs from ``1/rate`` by more than 10 % (:data:`RATE_TOLERANCE`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> sig = ImuSignals(t=np.arange(1, 4) / 100, gyro=np.zeros((3, 3)),
+    ...                  accel=np.tile([0.0, 0.0, -9.80665 / 100], (3, 1)),
+    ...                  kind="increments", rate=100)
+    >>> sig.t0, sig.state_times()
+    (0.0, array([0.  , 0.01, 0.02, 0.03]))
     """
 
     t: FloatArray
@@ -86,8 +106,14 @@ class ImuSignals:
         return float(self.t[0]) if self.kind == "rates" else float(self.t[0]) - self.dt
 
     def state_times(self) -> FloatArray:
-        """Times of the navigation states these signals give: ``t`` for rates, ``t0`` then ``t``
-        for increments (the N+1 nodes of the N intervals)."""
+        """Times of the navigation states these signals give.
+
+        Returns
+        -------
+        ndarray, shape (M,) or (M + 1,)
+            A copy of ``t`` for rates (a state at each sample); :attr:`t0` followed by ``t``
+            for increments (the M + 1 nodes of the M intervals).
+        """
         return self.t.copy() if self.kind == "rates" else np.concatenate([[self.t0], self.t])
 
     def _channel(self, name: str, kind: str, arr: FloatArray) -> FloatArray:
@@ -97,22 +123,49 @@ class ImuSignals:
 
     @property
     def omega(self) -> FloatArray:
-        """Body rate samples ``ω_b`` (rad/s), rates only."""
+        """Body rate samples ``ω_b`` (rad/s), shape (M, 3): the gyro channel of rates.
+
+        Raises
+        ------
+        ImunavError
+            For increment signals (use :attr:`dtheta`).
+        """
         return self._channel("omega", "rates", self.gyro)
 
     @property
     def specific_force(self) -> FloatArray:
-        """Specific force samples ``f_b`` (m/s²), rates only."""
+        """Specific force samples ``f_b`` (m/s²), shape (M, 3): the accelerometer channel of
+        rates.
+
+        Raises
+        ------
+        ImunavError
+            For increment signals (use :attr:`dv`).
+        """
         return self._channel("specific_force", "rates", self.accel)
 
     @property
     def dtheta(self) -> FloatArray:
-        """Angle increments ``Δθ`` (rad), increments only."""
+        """Angle increments ``Δθ = ∫ω_b dt`` (rad), shape (M, 3): the gyro channel of
+        increments.
+
+        Raises
+        ------
+        ImunavError
+            For rate signals (use :attr:`omega`).
+        """
         return self._channel("dtheta", "increments", self.gyro)
 
     @property
     def dv(self) -> FloatArray:
-        """Velocity increments ``Δv`` (m/s), increments only."""
+        """Velocity increments ``Δv = ∫f_b dt`` (m/s), shape (M, 3): the accelerometer channel
+        of increments.
+
+        Raises
+        ------
+        ImunavError
+            For rate signals (use :attr:`specific_force`).
+        """
         return self._channel("dv", "increments", self.accel)
 
     def __len__(self) -> int:

@@ -48,7 +48,30 @@ __all__ = ["ideal_chunks", "interval_count", "measured_chunks", "sample_times", 
 
 
 def interval_count(rate: float, duration: float) -> int:
-    """``N = round(duration × rate)`` sample intervals (N ≥ 1), or an ImunavError."""
+    """The number of sample intervals ``N = round(duration × rate)``.
+
+    Parameters
+    ----------
+    rate : float
+        Sample rate (Hz), > 0.
+    duration : float
+        Duration (s), > 0.
+
+    Returns
+    -------
+    int
+        N ≥ 1.
+
+    Raises
+    ------
+    ImunavError
+        If ``rate`` or ``duration`` is not a finite number > 0, or their product rounds to 0.
+
+    Examples
+    --------
+    >>> interval_count(100, 2.004)
+    200
+    """
     rate = check_positive(rate, "rate")
     duration = check_positive(duration, "duration")
     n = round(duration * rate)
@@ -59,13 +82,67 @@ def interval_count(rate: float, duration: float) -> int:
 
 
 def sample_times(rate: float, duration: float, t0: float = 0.0) -> FloatArray:
-    """``t_k = t0 + k/rate`` for ``k = 0..N``, ``N = round(duration × rate)`` (N ≥ 1)."""
+    """The sample times ``t_k = t0 + k/rate``, k = 0..N, with ``N = round(duration × rate)``.
+
+    Parameters
+    ----------
+    rate : float
+        Sample rate (Hz), > 0.
+    duration : float
+        Duration (s), > 0.
+    t0 : float, default 0.0
+        Start time (s).
+
+    Returns
+    -------
+    ndarray, shape (N + 1,)
+        Times (s); each is ``t0 + k/rate`` computed afresh (no accumulated rounding).
+
+    Raises
+    ------
+    ImunavError
+        If ``rate`` or ``duration`` is not a finite number > 0, or N would be 0.
+
+    Examples
+    --------
+    >>> sample_times(4, 1.0)
+    array([0.  , 0.25, 0.5 , 0.75, 1.  ])
+    """
     n = interval_count(rate, duration)
     return float(t0) + np.arange(n + 1) / check_positive(rate, "rate")
 
 
 def truth_states(motion: BaseMotion, t: npt.ArrayLike) -> States:
-    """True position, velocity and attitude of ``motion`` at times ``t`` (``motion.states``)."""
+    """True position, velocity and attitude of ``motion`` at times ``t``.
+
+    The same as ``motion.states(t)``: the truth a navigation run is compared with.
+
+    Parameters
+    ----------
+    motion : BaseMotion
+        The motion.
+    t : array_like, shape (N,)
+        Times (s), e.g. :func:`sample_times` or ``ImuSignals.state_times()``.
+
+    Returns
+    -------
+    States
+        Position (m, NED), velocity (m/s, NED) and ``q_nb`` at ``t``; on the WGS-84 Earth
+        (an :class:`~imunav.motion.geodetic.EarthMotion`) latitude, longitude, height and
+        ``frame="wgs84"``.
+
+    Raises
+    ------
+    ImunavError
+        If ``t`` is not a 1-D finite array (or, for a motion from data, reaches outside it).
+
+    Examples
+    --------
+    >>> from imunav.motion import Motion
+    >>> truth_states(Motion(x="2*t"), [0.0, 1.0]).position
+    array([[0., 0., 0.],
+           [2., 0., 0.]])
+    """
     return motion.states(t)
 
 
@@ -78,7 +155,22 @@ MAX_SAMPLES = 10_000_000_000
 
 
 def check_work(n: int, rate: float, what: str = "this simulation") -> None:
-    """Refuse a simulation of more than :data:`MAX_SAMPLES` samples, with the estimate."""
+    """Refuse a simulation of more than :data:`MAX_SAMPLES` samples, with the estimate.
+
+    Parameters
+    ----------
+    n : int
+        Samples the simulation would compute (at the sensor's internal rate).
+    rate : float
+        That rate (Hz), for the message.
+    what : str, default "this simulation"
+        What is refused, for the message.
+
+    Raises
+    ------
+    ImunavError
+        If ``n > MAX_SAMPLES`` (hours to days of work): lower the rate or the duration.
+    """
     if n > MAX_SAMPLES:
         raise ImunavError(f"{what} would compute {n:.3g} samples at {rate:g} Hz (hours to days); "
                           f"the limit is {MAX_SAMPLES:.0e}: lower the rate or the duration")
@@ -91,8 +183,45 @@ def _duration(motion: BaseMotion, duration, rate: float) -> float:
 def ideal_chunks(motion: BaseMotion, rate: float, duration: float | None = None, *,
                  output: str = "rates", g: float = G0, t0: float = 0.0, chunk: int = CHUNK
                  ) -> Iterator[tuple[FloatArray, FloatArray, FloatArray]]:
-    """The ideal signals of :func:`simulate_imu` as consecutive ``(t, gyro, accel)`` chunks of at
-    most ``chunk`` samples (bounded memory for any duration)."""
+    """The ideal signals of :func:`simulate_imu` as consecutive ``(t, gyro, accel)`` chunks.
+
+    Bounded memory for any duration: each chunk holds at most ``chunk`` samples. Rates are
+    ``ω_b(t_k)``, ``f_b(t_k)``; increments are integrated exactly over each interval
+    (piece by piece between a spline motion's ``breakpoints``).
+
+    Parameters
+    ----------
+    motion : BaseMotion
+        The motion.
+    rate : float
+        Sample rate (Hz), > 0.
+    duration : float, optional
+        Seconds; default the motion's own (a motion from data stops at its last whole sample).
+    output : {"rates", "increments"}, default "rates"
+        What to produce (see :func:`simulate_imu`).
+    g : float, default G0
+        Gravity magnitude (m/s²), ``g_n = [0, 0, +g]``.
+    t0 : float, default 0.0
+        Start time (s).
+    chunk : int, default CHUNK
+        Samples per chunk (at most).
+
+    Yields
+    ------
+    t : ndarray, shape (n,)
+        Sample times (s), interval ends for increments.
+    gyro : ndarray, shape (n, 3)
+        ``ω_b`` (rad/s) or ``Δθ`` (rad).
+    accel : ndarray, shape (n, 3)
+        ``f_b`` (m/s²) or ``Δv`` (m/s).
+
+    Raises
+    ------
+    ImunavError
+        On the first ``next``: if ``output`` is unknown, ``rate``, the duration or ``g`` is not
+        a finite number > 0, ``t0`` is not a finite number, or the run exceeds
+        :data:`MAX_SAMPLES`; later, if the motion is not finite at a sample.
+    """
     if output not in KINDS:
         raise ImunavError(f"output must be one of {KINDS}, got {output!r}")
     duration = _duration(motion, duration, rate)
@@ -127,10 +256,53 @@ def measured_chunks(motion: BaseMotion, model, rate: float, duration: float | No
                     output: str = "rates", g: float = G0, t0: float = 0.0, seed: int = 0,
                     chunk: int = CHUNK, on_clip=None
                     ) -> Iterator[tuple[FloatArray, FloatArray, FloatArray]]:
-    """``(t, gyro, accel)`` chunks of what ``model`` (an :class:`~imunav.sensors.models.ImuModel`)
-    outputs on ``motion`` at ``rate``: the ideal signals at the sensor's internal rate, then its
-    errors (run 0 of the Monte Carlo streams of ``seed``: ``SeedSequence(seed).spawn(1)[0]``).
-    ``on_clip(count)`` is called with the number of clipped output samples of each chunk."""
+    """``(t, gyro, accel)`` chunks of what ``model`` outputs on ``motion`` at ``rate``.
+
+    The ideal signals are simulated at the sensor's internal rate (``rate ×
+    model.decimation(rate)``), then its errors are applied and the output decimated
+    (:class:`~imunav.sensors.models.MeasureStream`). The random errors are run 0 of the Monte
+    Carlo streams of ``seed`` (``SeedSequence(seed).spawn(1)[0]``), so a Monte Carlo's first run
+    and this simulation agree.
+
+    Parameters
+    ----------
+    motion : BaseMotion
+        The motion.
+    model : ImuModel
+        The sensor's errors (:class:`~imunav.sensors.models.ImuModel`).
+    rate : float
+        Output rate (Hz), > 0.
+    duration : float, optional
+        Seconds; default the motion's own.
+    output : {"rates", "increments"}, default "rates"
+        What to produce (see :func:`simulate_imu`).
+    g : float, default G0
+        Gravity magnitude (m/s²).
+    t0 : float, default 0.0
+        Start time (s).
+    seed : int, default 0
+        Random seed (an integer ≥ 0).
+    chunk : int, default CHUNK
+        Samples per chunk at the internal rate (rounded down to whole output samples).
+    on_clip : callable, optional
+        ``on_clip(count)``, called with the number of output samples clipped at the sensor's
+        range in each chunk where there are some.
+
+    Yields
+    ------
+    t : ndarray, shape (n,)
+        Output sample times (s), interval ends for increments.
+    gyro : ndarray, shape (n, 3)
+        Measured ``ω_b`` (rad/s) or ``Δθ`` (rad).
+    accel : ndarray, shape (n, 3)
+        Measured ``f_b`` (m/s²) or ``Δv`` (m/s).
+
+    Raises
+    ------
+    ImunavError
+        On the first ``next``: if ``seed`` is not an integer ≥ 0, or for the reasons of
+        :func:`ideal_chunks` (at the internal rate).
+    """
     seed = check_int(seed, "seed")
     k = model.decimation(rate)
     rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0])
@@ -243,8 +415,18 @@ def simulate_imu(motion: BaseMotion, rate: float, duration: float | None = None,
     Raises
     ------
     ImunavError
-        Also when the arrays would not fit in memory (the command line streams to a file
-        instead, for any duration).
+        If ``output`` is unknown; ``rate``, the duration (given or the motion's) or ``g`` is
+        not a finite number > 0; ``seed`` is not an integer ≥ 0; the motion is not finite at
+        a sample; the run (at the sensor's internal rate) would exceed
+        :data:`MAX_SAMPLES`; or the arrays would not fit in memory (the command line streams
+        to a file instead, for any duration).
+
+    Examples
+    --------
+    >>> from imunav.motion import Motion
+    >>> sig = simulate_imu(Motion(yaw="0.5*t", duration=1.0), rate=10, output="increments")
+    >>> sig.t.shape, sig.dtheta[0]                   # 0.5 rad/s for 0.1 s about z
+    ((10,), array([0.  , 0.  , 0.05]))
     """
     duration = _duration(motion, duration, rate)
     n = interval_count(rate, duration)

@@ -49,15 +49,38 @@ EARTH_CHUNK_SECONDS = 64.0
 
 @dataclass(frozen=True)
 class Algorithm:
-    """One strapdown algorithm.
+    """One strapdown algorithm: a row of :data:`ALGORITHMS`.
 
-    ``order`` is the global convergence order ``(attitude, velocity, position)`` on smooth
-    motion; ``func(gyro, accel, h, q0, v0, p0, g, first, count) → (q, v, p)`` integrates
-    ``count`` intervals of a window of samples (see :mod:`imunav.strapdown.classic`), for one run
-    ((M, 3) inputs) or R runs at once ((M, R, 3)). ``context``: samples needed before and after
-    an interval's own; ``align``: chunks must start at multiples of it (multi-sample groups).
-    ``causal``: the state at ``t_k`` uses no sample after ``t_k`` (real-time capable;
-    multi-sample algorithms update once per major interval).
+    Attributes
+    ----------
+    name : str
+        The name users choose it by (``algorithm=`` of :func:`navigate`).
+    kind : {"rates", "increments"}
+        The signals it integrates.
+    order : tuple of int
+        The global convergence order ``(attitude, velocity, position)`` on smooth motion (as
+        measured in ``tests/test_strapdown.py``).
+    summary : str
+        What it does, in one line.
+    source : str
+        Where it comes from (papers, books).
+    func : callable
+        ``func(gyro, accel, h, q0, v0, p0, g, first, count) → (q, v, p)``: integrates ``count``
+        intervals of a window of samples from interval ``first`` (``h`` in s, ``g`` in m/s²;
+        see :mod:`imunav.strapdown.classic`), for one run ((M, 3) inputs) or R runs at once
+        ((M, R, 3)); returns the ``count + 1`` states from the initial one.
+    causal : bool, default True
+        The state at ``t_k`` uses no sample after ``t_k`` (real-time capable; multi-sample
+        algorithms update once per major interval).
+    context : tuple of int, default (0, 0)
+        Samples needed before and after an interval's own.
+    align : int, default 1
+        Chunks must start at multiples of it (multi-sample groups).
+
+    Examples
+    --------
+    >>> ALGORITHMS["rates"]["magnus4"].order, ALGORITHMS["rates"]["magnus4"].causal
+    ((4, 4, 4), False)
     """
 
     name: str
@@ -156,7 +179,30 @@ DEFAULT_ALGORITHM = {"rates": "magnus6", "increments": "poly8_m6"}
 
 
 def resolve(kind: str, algorithm: str | None = None) -> Algorithm:
-    """The registry row for ``algorithm`` on ``kind`` signals (the default if None)."""
+    """The registry row for ``algorithm`` on ``kind`` signals.
+
+    Parameters
+    ----------
+    kind : {"rates", "increments"}
+        The signal kind.
+    algorithm : str, optional
+        A name from ``ALGORITHMS[kind]``; default :data:`DEFAULT_ALGORITHM` ``[kind]``.
+
+    Returns
+    -------
+    Algorithm
+
+    Raises
+    ------
+    ImunavError
+        If ``kind`` is unknown, or ``algorithm`` is not registered for it (the message lists
+        the choices).
+
+    Examples
+    --------
+    >>> resolve("increments").name, resolve("rates", "first_order").order
+    ('poly8_m6', (1, 1, 1))
+    """
     if kind not in KINDS:
         raise ImunavError(f"kind must be one of {KINDS}, got {kind!r}")
     name = algorithm or DEFAULT_ALGORITHM[kind]
@@ -174,10 +220,55 @@ CHUNK = 1 << 16
 class StreamNavigator:
     """Navigate samples fed in pieces of any size; states come out chunk by chunk.
 
-    ``feed(gyro, accel)`` takes the next samples ((n, 3), or (n, R, 3) for R runs) and returns
-    the states completed so far as ``(q, v, p)`` arrays for the nodes after the last returned
-    one (possibly empty); ``finish()`` integrates what is left. The initial state (node 0) is
-    not returned. Memory: the samples of about two chunks.
+    :meth:`feed` takes the next samples and returns the states completed so far;
+    :meth:`finish` integrates what is left. The initial state (node 0) is not returned.
+    Memory: the samples of about two chunks.
+
+    Parameters
+    ----------
+    kind : {"rates", "increments"}
+        The signal kind.
+    rate : float
+        Sample rate (Hz), > 0.
+    q0 : array_like, shape (4,) or (R, 4)
+        Initial attitude ``q_nb`` (normalised; on the Earth relative to local NED).
+    v0, p0 : array_like, shape (3,) or (R, 3)
+        Initial velocity (m/s) and position (m), NED; on the Earth the velocity relative to
+        the Earth in local NED and ``p0 = [lat, lon, h]`` (rad, rad, m).
+    g : float, default G0
+        Gravity magnitude (m/s²) of the flat frame (not used on the Earth).
+    algorithm : str, optional
+        A name from ``ALGORITHMS[kind]``; default the most accurate.
+    runs : int, optional
+        R, the runs fed at once (sizes the chunks); default 1.
+    chunk : int, default CHUNK
+        Intervals × runs per chunk.
+    t0 : float, default 0.0
+        Start time (s).
+    earth : {"flat", "wgs84"}, default "flat"
+        The navigation frame (see :func:`navigate`).
+    hold : callable, optional
+        On the Earth only: ``hold(t) → (h, v_d)`` to hold the vertical channel (see
+        :func:`navigate`).
+
+    Raises
+    ------
+    ImunavError
+        If ``kind`` or ``algorithm`` is unknown, ``rate`` is not a finite number > 0, ``earth``
+        is not in :data:`EARTHS`, ``hold`` is given on the flat frame, or ``g`` is not a
+        valid gravity; later, from :meth:`feed` or :meth:`finish`, if the navigation becomes
+        non-finite (signals far too large: wrong units).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> nav = StreamNavigator("increments", 10, [1.0, 0, 0, 0], np.zeros(3), np.zeros(3))
+    >>> dv = np.tile([0.1, 0.0, -0.980665], (10, 1))          # 1 m/s² north for 1 s
+    >>> nav.feed(np.zeros((10, 3)), dv)                       # too little for a chunk yet
+    []
+    >>> (q, v, p), = nav.finish()
+    >>> q.shape, round(float(p[-1, 0]), 12)
+    ((10, 4), 0.5)
     """
 
     def __init__(self, kind: str, rate: float, q0, v0, p0, g: float = G0, *,
@@ -250,6 +341,28 @@ class StreamNavigator:
         return out
 
     def feed(self, gyro: np.ndarray, accel: np.ndarray) -> list[tuple]:
+        """Take the next samples; integrate every chunk they complete.
+
+        Parameters
+        ----------
+        gyro : ndarray, shape (n, 3) or (n, R, 3)
+            The next ω_b (rad/s) or Δθ (rad) samples, as the navigator's kind.
+        accel : ndarray, shape (n, 3) or (n, R, 3)
+            The next f_b (m/s²) or Δv (m/s) samples.
+
+        Returns
+        -------
+        list of tuple
+            ``(q, v, p)`` per chunk completed (possibly none): the states after the last ones
+            returned, shapes (m, 4) and (m, 3) (or (m, R, …)); flat: ``q_nb``, velocity (m/s)
+            and position (m) NED; on the Earth local-NED ``q_nb``, Earth-relative velocity and
+            ``[lat, lon, h]`` (rad, rad, m).
+
+        Raises
+        ------
+        ImunavError
+            If the navigation becomes non-finite (signals far too large: wrong units).
+        """
         self.buf_g.append(np.asarray(gyro, float))
         self.buf_a.append(np.asarray(accel, float))
         self.buf_len += len(gyro)
@@ -260,6 +373,18 @@ class StreamNavigator:
         return out
 
     def finish(self) -> list[tuple]:
+        """Integrate the samples left over after the last :meth:`feed`.
+
+        Returns
+        -------
+        list of tuple
+            ``(q, v, p)`` per chunk, as :meth:`feed` returns them, up to the last state.
+
+        Raises
+        ------
+        ImunavError
+            If the navigation becomes non-finite (signals far too large: wrong units).
+        """
         out = []
         n_int = self.total - self.own
         while self.next < n_int:
@@ -321,6 +446,27 @@ def navigate(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike = (0.0, 0
     States
         States at ``signals.state_times()`` (the first row is the initial state), with the
         algorithm's name (and ``frame="wgs84"`` on the Earth: positions ``[lat, lon, h]``).
+
+    Raises
+    ------
+    ImunavError
+        If ``signals`` is not :class:`~imunav.sensors.signals.ImuSignals`; ``q0``, ``v0`` or
+        ``p0`` has the wrong shape or is not finite (``q0`` also if it is zero); ``g`` is
+        given with ``earth="wgs84"`` or is not a valid gravity; ``algorithm`` or ``earth`` is
+        unknown; ``hold`` is given on the flat frame; the signals have fewer samples than the
+        algorithm needs; or the navigation becomes non-finite (signals far too large).
+
+    Examples
+    --------
+    1 m/s² north, level, for 1 s from rest: 1 m/s and 0.5 m north.
+
+    >>> import numpy as np
+    >>> from imunav.sensors.signals import ImuSignals
+    >>> sig = ImuSignals(t=np.arange(11) / 10, gyro=np.zeros((11, 3)),
+    ...                  accel=np.tile([1.0, 0.0, -9.80665], (11, 1)), kind="rates", rate=10)
+    >>> s = navigate(sig, [1.0, 0.0, 0.0, 0.0])
+    >>> s.algorithm, round(float(s.velocity[-1, 0]), 12), round(float(s.position[-1, 0]), 12)
+    ('magnus6', 1.0, 0.5)
     """
     if not isinstance(signals, ImuSignals):
         raise ImunavError(f"signals must be ImuSignals, got {type(signals).__name__}")
@@ -345,10 +491,60 @@ def navigate_batch(kind: str, gyro: FloatArray, accel: FloatArray, rate: float,
                    q0: npt.ArrayLike, v0: npt.ArrayLike, p0: npt.ArrayLike, g: float = G0, *,
                    algorithm: str | None = None, earth: str = "flat", t0: float = 0.0,
                    hold=None) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Integrate R runs at once: ``gyro``/``accel`` of shape (N, R, 3), from the same or per-run
-    initial states (``q0`` (4,) or (R, 4), ``v0``/``p0`` (3,) or (R, 3)). Returns ``(q, v, p)``
-    of shapes (N+1 or N, R, 4|3) as :func:`navigate` does for one run (``earth``, ``hold``:
-    as there; ``t0`` the start time)."""
+    """Integrate R runs at once (as Monte Carlo does), as :func:`navigate` does one.
+
+    Parameters
+    ----------
+    kind : {"rates", "increments"}
+        The signal kind.
+    gyro : ndarray, shape (N, R, 3)
+        ω_b (rad/s) or Δθ (rad) of every run.
+    accel : ndarray, shape (N, R, 3)
+        f_b (m/s²) or Δv (m/s) of every run.
+    rate : float
+        Sample rate (Hz), > 0.
+    q0 : array_like, shape (4,) or (R, 4)
+        Initial attitude ``q_nb``, the same for every run or one per run.
+    v0, p0 : array_like, shape (3,) or (R, 3)
+        Initial velocity (m/s) and position (m), NED (on the Earth: Earth-relative local-NED
+        velocity and ``[lat, lon, h]`` in rad, rad, m).
+    g : float, default G0
+        Gravity magnitude (m/s²) of the flat frame.
+    algorithm : str, optional
+        A name from ``ALGORITHMS[kind]``; default the most accurate.
+    earth : {"flat", "wgs84"}, default "flat"
+        The navigation frame.
+    t0 : float, default 0.0
+        Start time (s).
+    hold : callable, optional
+        On the Earth only: the vertical-channel hold of :func:`navigate`.
+
+    Returns
+    -------
+    q : ndarray, shape (N + 1 or N, R, 4)
+        ``q_nb`` at the state times (N + 1 for increments, N for rates), from the initial one.
+    v : ndarray, shape (N + 1 or N, R, 3)
+        Velocity (m/s).
+    p : ndarray, shape (N + 1 or N, R, 3)
+        Position (m, or ``[lat, lon, h]`` on the Earth).
+
+    Raises
+    ------
+    ImunavError
+        If ``kind`` or ``algorithm`` is unknown; ``gyro`` or ``accel`` is not a finite
+        (N, R, 3) array or their shapes differ; there are fewer samples than the algorithm
+        needs; an initial state has the wrong shape; ``rate``, ``g``, ``earth`` or ``hold`` is
+        refused as by :class:`StreamNavigator`; or the navigation becomes non-finite.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> dv = np.tile([0.1, 0.0, -0.980665], (10, 2, 1))       # 2 runs, 1 m/s² north, 1 s
+    >>> q, v, p = navigate_batch("increments", np.zeros((10, 2, 3)), dv, 10,
+    ...                          [1.0, 0, 0, 0], [0.0, 0, 0], [0.0, 0, 0])
+    >>> q.shape, p[-1, :, 0].round(12)
+    ((11, 2, 4), array([0.5, 0.5]))
+    """
     algo = resolve(kind, algorithm)
     gyro = as_float_array(gyro, "gyro", ndim=3, last=3)
     accel = as_float_array(accel, "accel", ndim=3, last=3)
