@@ -3,7 +3,7 @@ position error against a tolerance, the error budget per term, the minimum usefu
 text a non-specialist can act on.
 
 May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``, ``imunav.strapdown``,
-``imunav.analysis``.
+``imunav.estimation``, ``imunav.analysis``.
 """
 
 from __future__ import annotations
@@ -20,6 +20,7 @@ from imunav.analysis.covariance import (
 from imunav.analysis.metrics import nav_errors
 from imunav.analysis.montecarlo import MonteCarloResult, monte_carlo
 from imunav.core.validation import check_positive
+from imunav.estimation.alignment import WINDOW, check_alignment
 from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import ImuModel, TriadModel
 from imunav.sensors.simulate import signal_chunks
@@ -186,14 +187,22 @@ def deterministic_error(motion: BaseMotion, model: ImuModel, rate: float,
 
 def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, tolerance: float,
                       duration: float | None = None, output: str = "increments",
-                      progress: bool = True) -> dict:
+                      progress: bool = True, *, alignment: str = "truth",
+                      align_window: float = WINDOW) -> dict:
     """The applicability verdict by linear covariance analysis (:mod:`~imunav.analysis.covariance`):
     a fraction of a second where Monte Carlo takes tens of seconds; exact for the linear
     model, and flagged when the motion leaves its validity (clipping, large attitude errors,
-    a filter lag that matters on this motion: :func:`deterministic_error`)."""
+    a filter lag that matters on this motion: :func:`deterministic_error`).
+
+    ``alignment``: the initial attitude, ``"truth"`` or ``"level"`` (levelled from the
+    accelerometer at rest over ``align_window`` seconds before the motion:
+    :mod:`imunav.estimation.alignment`); with ``"level"`` the verdict says so
+    (``r["alignment"]``)."""
     tolerance = check_positive(tolerance, "tolerance")
+    alignment, align_window = check_alignment(alignment, align_window, motion.frame)
+    al = {} if alignment == "truth" else {"alignment": alignment, "align_window": align_window}
     cov = covariance_summary(motion, model, rate, duration, output=output, tolerance=tolerance,
-                             level=SUITABLE_FRACTION, progress=progress)
+                             level=SUITABLE_FRACTION, progress=progress, **al)
     r = verdict_covariance(cov, tolerance, min_sample_rate(motion, tolerance, duration, output),
                            motion=motion.name, imu=model.name)
     det = deterministic_error(motion, model, rate, duration, output,
@@ -205,28 +214,41 @@ def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, toleranc
             f"this motion (signal lag or clipping: not in the covariance, which models their "
             f"effect on noise); the error can reach the 95th percentile plus this. Check with "
             "--method montecarlo")
+    _say_alignment(r, alignment, align_window)
     return r
+
+
+def _say_alignment(r: dict, alignment: str, window: float) -> None:
+    """Record a levelled start in the verdict (the truth start, the default, adds nothing)."""
+    if alignment == "level":
+        r["alignment"] = {"method": "level", "window_s": float(window)}
 
 
 def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int, tolerance: float,
            seed: int = 0, duration: float | None = None, output: str = "increments",
            budget_runs: int | None = None, scheduler: str | None = None,
-           progress: bool = True) -> dict:
+           progress: bool = True, *, alignment: str = "truth",
+           align_window: float = WINDOW) -> dict:
     """The applicability verdict: the numbers of ``imunav assess`` (see :func:`verdict` and
     :func:`format_verdict`).
 
     ``error_budget``: each error term alone (same seed, ``budget_runs`` runs, default
-    min(runs, 200)) → final 95th-percentile position error (m).
+    min(runs, 200)) → final 95th-percentile position error (m). ``alignment``: each run from
+    the true attitude, or from its own levelled one (as :func:`assess_covariance`).
     """
     tolerance = check_positive(tolerance, "tolerance")
+    alignment, align_window = check_alignment(alignment, align_window, motion.frame)
+    al = {} if alignment == "truth" else {"alignment": alignment, "align_window": align_window}
     mc = monte_carlo(motion, model, rate, duration, runs, seed, output, scheduler=scheduler,
-                     progress=progress)
+                     progress=progress, **al)
     br = budget_runs or min(runs, 200)
     budget = {term: monte_carlo(motion, model.only(term), rate, duration, br, seed, output,
-                                scheduler=scheduler, progress=False)
+                                scheduler=scheduler, progress=False, **al)
               for term in model.terms()}
-    return verdict(mc, tolerance, budget, min_sample_rate(motion, tolerance, duration, output),
-                   motion=motion.name, imu=model.name, seed=seed)
+    r = verdict(mc, tolerance, budget, min_sample_rate(motion, tolerance, duration, output),
+                motion=motion.name, imu=model.name, seed=seed)
+    _say_alignment(r, alignment, align_window)
+    return r
 
 
 def format_verdict(r: dict) -> str:
@@ -236,6 +258,9 @@ def format_verdict(r: dict) -> str:
     how = "covariance analysis" if cov else f"{r['runs']} runs (seed {r['seed']})"
     lines = [f"IMU {r['imu']} on motion {r['motion']} at {r['rate_hz']:g} Hz, {how}, "
              f"tolerance {r['tolerance_m']:g} m:"]
+    if r.get("alignment"):
+        lines.append(f"  Initial attitude levelled from the accelerometer at rest over "
+                     f"{r['alignment']['window_s']:g} s before the motion (heading given).")
     ok = r.get("suitable", r["fraction_within_tolerance"] >= SUITABLE_FRACTION)
     need = f"(needed: {100 * SUITABLE_FRACTION:g} %)"
     if cov and ok:

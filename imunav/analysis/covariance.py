@@ -33,6 +33,7 @@ from imunav.analysis.gaussnorm import (
 from imunav.core.constants import G0
 from imunav.core.kernels import FloatArray
 from imunav.core.resources import check_memory
+from imunav.estimation.alignment import WINDOW, check_alignment, levelled_sources
 from imunav.estimation.error_model import LazyTrajectory, Trajectory, error_model, linearise
 from imunav.estimation.propagation import CHUNK, propagate, propagate_chunks
 from imunav.motion.base import BaseMotion, span
@@ -525,8 +526,8 @@ LINEAR_LIMIT = 0.3
 
 
 def covariance(motion: BaseMotion, model: ImuModel, rate: float, duration: float | None = None,
-               g: float = G0, output: str = "increments", trajectory: Trajectory | None = None
-               ) -> CovarianceResult:
+               g: float = G0, output: str = "increments", trajectory: Trajectory | None = None,
+               *, alignment: str = "truth", align_window: float = WINDOW) -> CovarianceResult:
     """Propagate every sensor error term of ``model`` along ``motion`` at ``rate`` Hz.
 
     Parameters
@@ -543,6 +544,12 @@ def covariance(motion: BaseMotion, model: ImuModel, rate: float, duration: float
         The signal kind (``increments``: quantisation with a carried residual).
     trajectory : Trajectory, optional
         The motion already sampled by :meth:`Trajectory.of` (to reuse it).
+    alignment : {"truth", "level"}
+        The initial attitude: the truth, or levelled from the accelerometer at rest over
+        ``align_window`` seconds before the motion (:mod:`imunav.estimation.alignment`: the
+        tilt then absorbs the horizontal accelerometer errors of the window; flat frame only).
+    align_window : float
+        Seconds of the levelling window.
 
     Returns
     -------
@@ -560,12 +567,23 @@ def covariance(motion: BaseMotion, model: ImuModel, rate: float, duration: float
     duration = span(motion, rate, duration)
     traj = trajectory or Trajectory.of(motion, rate, duration, g)
     sources, warnings = linearise(model, traj, output, model.decimation(rate))
+    sources = _aligned(sources, motion, traj, rate, g, alignment, align_window)
     terms = dict(zip([s.name for s in sources], propagate(sources, traj), strict=True))
     total = _sum(list(terms.values())) if terms else np.zeros((traj.t.size, 9, 9))
     res = CovarianceResult(traj.t, terms, total, float(rate), model.name, traj.max_rate,
                            traj.max_force, warnings)
     _attitude_warning(res, bool(terms))
     return res
+
+
+def _aligned(sources, motion, traj, rate, g, alignment, align_window):
+    """The sources as :func:`~imunav.estimation.alignment.levelled_sources` for
+    ``alignment="level"`` (levelling at rest at the motion's initial attitude), else as given."""
+    alignment, align_window = check_alignment(alignment, align_window, traj.frame)
+    if alignment == "truth":
+        return sources
+    q0 = motion.attitude(np.zeros(1))[0]
+    return levelled_sources(sources, q0, align_window, rate, g)
 
 
 def _sum(parts: list[FloatArray]) -> FloatArray:
@@ -581,7 +599,8 @@ def covariance_summary(motion: BaseMotion, model: ImuModel, rate: float,
                        output: str = "increments", *, tolerance: float | None = None,
                        level: float = 0.0, p: float = 0.95, maxima: bool = False,
                        trajectory: LazyTrajectory | None = None, progress: bool = False,
-                       chunk: int = CHUNK) -> CovarianceSummary:
+                       chunk: int = CHUNK, alignment: str = "truth",
+                       align_window: float = WINDOW) -> CovarianceSummary:
     """:func:`covariance` streamed: the same propagation, a piece of the trajectory at a time,
     keeping only the grid of the envelope and the exact extrema an assessment needs — in memory
     that does not grow with the record.
@@ -613,6 +632,10 @@ def covariance_summary(motion: BaseMotion, model: ImuModel, rate: float,
         seconds).
     chunk : int
         Steps per piece.
+    alignment : {"truth", "level"}
+        The initial attitude, as :func:`covariance`.
+    align_window : float
+        Seconds of the levelling window.
 
     Returns
     -------
@@ -631,6 +654,7 @@ def covariance_summary(motion: BaseMotion, model: ImuModel, rate: float,
     duration = span(motion, rate, duration)
     traj = trajectory or LazyTrajectory(motion, rate, duration, g)
     sources, warnings = linearise(model, traj, output, model.decimation(rate))
+    sources = _aligned(sources, motion, traj, rate, g, alignment, align_window)
     names = [s.name for s in sources]
     n = traj.steps
     grid = envelope_index(n + 1)
@@ -639,10 +663,14 @@ def covariance_summary(motion: BaseMotion, model: ImuModel, rate: float,
                  "a lower --rate or a shorter duration")
     terms = {k: np.zeros((grid.size, 9, 9)) for k in names}
     total = np.zeros((grid.size, 9, 9))
+    if alignment == "level":                                 # the levelled attitude's error
+        for k, src in zip(names, sources, strict=True):
+            terms[k][0] = src.initial_covariance()[:9, :9]
+        total[0] = _sum([terms[k][0] for k in names]) if names else 0.0
     within = WithinTracker(tolerance, level) if tolerance is not None else None
     tracks = {k: MaxQuantileTracker(p) for k in [*names, None]} if maxima and names else {}
     bar = _progress(n, sources, progress)
-    gi = 1                                                   # grid[0] = 0: no error yet
+    gi = 1                                                   # grid[0]: the initial errors
     for lo, hi, covs in propagate_chunks(sources, traj, error_model(traj), chunk=chunk,
                                          local=True):
         tot = _sum(covs) if covs else np.zeros((hi - lo, 9, 9))
