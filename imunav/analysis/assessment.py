@@ -17,6 +17,7 @@ from imunav.analysis.covariance import (
     covariance_summary,
     envelope_index,
 )
+from imunav.analysis.gaussnorm import norm_quantile
 from imunav.analysis.metrics import nav_errors
 from imunav.analysis.montecarlo import MonteCarloResult, monte_carlo
 from imunav.core.validation import check_positive
@@ -187,22 +188,25 @@ def deterministic_error(motion: BaseMotion, model: ImuModel, rate: float,
 
 def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, tolerance: float,
                       duration: float | None = None, output: str = "increments",
-                      progress: bool = True, *, alignment: str = "truth",
-                      align_window: float = WINDOW) -> dict:
+                      progress: bool = True, vertical: str = "free", *,
+                      alignment: str = "truth", align_window: float = WINDOW) -> dict:
     """The applicability verdict by linear covariance analysis (:mod:`~imunav.analysis.covariance`):
     a fraction of a second where Monte Carlo takes tens of seconds; exact for the linear
     model, and flagged when the motion leaves its validity (clipping, large attitude errors,
-    a filter lag that matters on this motion: :func:`deterministic_error`).
+    a filter lag that matters on this motion: :func:`deterministic_error`). On the WGS-84
+    Earth ``vertical="hold"`` holds the vertical channel at the true height; free, a verdict
+    dominated by the unstable vertical channel says so.
 
     ``alignment``: the initial attitude, ``"truth"`` or ``"level"`` (levelled from the
     accelerometer at rest over ``align_window`` seconds before the motion:
-    :mod:`imunav.estimation.alignment`); with ``"level"`` the verdict says so
+    :mod:`imunav.estimation.alignment`; flat frame only); with ``"level"`` the verdict says so
     (``r["alignment"]``)."""
     tolerance = check_positive(tolerance, "tolerance")
     alignment, align_window = check_alignment(alignment, align_window, motion.frame)
     al = {} if alignment == "truth" else {"alignment": alignment, "align_window": align_window}
     cov = covariance_summary(motion, model, rate, duration, output=output, tolerance=tolerance,
-                             level=SUITABLE_FRACTION, progress=progress, **al)
+                             level=SUITABLE_FRACTION, progress=progress, vertical=vertical,
+                             **al)
     r = verdict_covariance(cov, tolerance, min_sample_rate(motion, tolerance, duration, output),
                            motion=motion.name, imu=model.name)
     det = deterministic_error(motion, model, rate, duration, output,
@@ -214,6 +218,15 @@ def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, toleranc
             f"this motion (signal lag or clipping: not in the covariance, which models their "
             f"effect on noise); the error can reach the 95th percentile plus this. Check with "
             "--method montecarlo")
+    if motion.frame == "wgs84" and cov.terms:
+        Ph = cov.total[-1:, 6:9, 6:9].copy()
+        Ph[:, 2, :] = Ph[:, :, 2] = 0.0                      # the horizontal part alone
+        hor = float(norm_quantile(Ph, PERCENTILE / 100)[0])
+        r["vertical"] = vertical
+        r["final_p95_horizontal_m"] = hor
+        note = vertical_note(r["final_p95_position_m"], hor, vertical)
+        if note:
+            r["warnings"].append(note)
     _say_alignment(r, alignment, align_window)
     return r
 
@@ -227,28 +240,64 @@ def _say_alignment(r: dict, alignment: str, window: float) -> None:
 def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int, tolerance: float,
            seed: int = 0, duration: float | None = None, output: str = "increments",
            budget_runs: int | None = None, scheduler: str | None = None,
-           progress: bool = True, *, alignment: str = "truth",
+           progress: bool = True, vertical: str = "free", *, alignment: str = "truth",
            align_window: float = WINDOW) -> dict:
     """The applicability verdict: the numbers of ``imunav assess`` (see :func:`verdict` and
     :func:`format_verdict`).
 
     ``error_budget``: each error term alone (same seed, ``budget_runs`` runs, default
-    min(runs, 200)) → final 95th-percentile position error (m). ``alignment``: each run from
-    the true attitude, or from its own levelled one (as :func:`assess_covariance`).
+    min(runs, 200)) → final 95th-percentile position error (m). On the WGS-84 Earth
+    ``vertical="hold"`` holds the vertical channel at the true height (a perfect height aid);
+    free, a verdict dominated by the unstable vertical channel says so. ``alignment``: each
+    run from the true attitude, or from its own levelled one (as :func:`assess_covariance`).
     """
     tolerance = check_positive(tolerance, "tolerance")
     alignment, align_window = check_alignment(alignment, align_window, motion.frame)
     al = {} if alignment == "truth" else {"alignment": alignment, "align_window": align_window}
     mc = monte_carlo(motion, model, rate, duration, runs, seed, output, scheduler=scheduler,
-                     progress=progress, **al)
+                     progress=progress, vertical=vertical, **al)
     br = budget_runs or min(runs, 200)
     budget = {term: monte_carlo(motion, model.only(term), rate, duration, br, seed, output,
-                                scheduler=scheduler, progress=False, **al)
+                                scheduler=scheduler, progress=False, vertical=vertical,
+                                **al)
               for term in model.terms()}
     r = verdict(mc, tolerance, budget, min_sample_rate(motion, tolerance, duration, output),
                 motion=motion.name, imu=model.name, seed=seed)
+    if mc.horizontal is not None:
+        r["vertical"] = vertical
+        hor = float(np.percentile(mc.horizontal[:, -1], PERCENTILE))
+        r["final_p95_horizontal_m"] = hor
+        note = vertical_note(r["final_p95_position_m"], hor, vertical)
+        if note:
+            r["warnings"].append(note)
     _say_alignment(r, alignment, align_window)
     return r
+
+
+#: Above this ratio of the whole error to its horizontal part the vertical channel dominates.
+VERTICAL_DOMINANCE = 2.0
+
+
+def vertical_note(total: float, horizontal: float, vertical: str) -> str | None:
+    """The warning of a verdict on the Earth whose error is mostly vertical: the free vertical
+    channel is unstable (the error e-folds in about 10 minutes); a height aid removes it.
+
+    Parameters
+    ----------
+    total, horizontal : float
+        Final 95th percentiles of the whole and the horizontal position error (m).
+    vertical : {"free", "hold"}
+
+    Returns
+    -------
+    str or None
+    """
+    if vertical != "free" or total <= VERTICAL_DOMINANCE * horizontal:
+        return None
+    return (f"the vertical channel dominates: {total:.3g} m in all, {horizontal:.3g} m "
+            "horizontally (free, the vertical error of an inertial navigator grows "
+            "exponentially, e-folding in about 10 minutes); with a perfect height aid "
+            "(--vertical hold) only the horizontal part remains")
 
 
 def format_verdict(r: dict) -> str:

@@ -46,10 +46,11 @@ def in_datasheet_units(term: str, si: float) -> str:
 
 def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
            duration: float | None = None, output: str = "increments",
-           progress: bool = True, *, alignment: str = "truth",
+           progress: bool = True, vertical: str = "free", *, alignment: str = "truth",
            align_window: float = WINDOW) -> dict:
     """Limits of each error term of ``base``, the common scale, the minimum rate and every
-    preset ranked (the numbers of ``imunav design``; the JSON it writes). ``alignment``: the
+    preset ranked (the numbers of ``imunav design``; the JSON it writes). On the WGS-84 Earth
+    ``vertical="hold"`` holds the vertical channel at the true height. ``alignment``: the
     initial attitude, the truth or levelled (:func:`~imunav.analysis.assessment.assess_covariance`);
     each term's covariance still scales with the square of its value, so the limits stay exact."""
     tolerance = check_positive(tolerance, "tolerance")
@@ -58,7 +59,7 @@ def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
     traj = LazyTrajectory(motion, rate, duration)
     al = {"alignment": alignment, "align_window": align_window}
     cov = covariance_summary(motion, base, rate, duration, output=output, p=p, maxima=True,
-                             trajectory=traj, progress=progress, **al)
+                             trajectory=traj, progress=progress, vertical=vertical, **al)
     terms = {}
     for term in cov.terms:
         triad, _, name = term.partition(".")
@@ -74,7 +75,8 @@ def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
     presets = []
     for name in PRESETS:
         pc = covariance_summary(motion, ImuModel.load(name), rate, duration, output=output,
-                                tolerance=tolerance, trajectory=traj, progress=progress, **al)
+                                tolerance=tolerance, trajectory=traj, progress=progress,
+                                vertical=vertical, **al)
         final = float(pc.position_quantile(p, index=-1)) if pc.terms else 0.0
         within = pc.min_position_within(tolerance) if pc.terms else 1.0
         presets.append({"name": name, "final_p95_position_m": final,
