@@ -135,7 +135,7 @@ def _striped_handle_class():
 
 
 def plot_coinciding(ax, x, series: dict, ids, labels: bool = True, marker: str | None = "o",
-                    lw: float = 1.5, note: bool = True, **kw) -> dict:
+                    lw: float = 1.5, note: bool = True, note_loc: str = "best", **kw) -> dict:
     """Draw ``series[i]`` for each id in its colour. Where several coincide (to 5 % at every
     point: one line on a log axis) they are drawn as *one* striped line — each colour in turn
     along it, :data:`STRIPE_PT` long, no series wider than another — with each series' markers
@@ -156,6 +156,8 @@ def plot_coinciding(ax, x, series: dict, ids, labels: bool = True, marker: str |
         For each group that coincides, a legend entry drawn as the striped line and labelled
         "coincide: …" (a legend of these entries alone is drawn on ``ax``; a later
         ``ax.legend()`` includes them with the series).
+    note_loc : str
+        Where that legend goes (``loc`` of ``ax.legend``).
     **kw
         Passed to ``ax.plot``.
 
@@ -165,6 +167,8 @@ def plot_coinciding(ax, x, series: dict, ids, labels: bool = True, marker: str |
         ``{"artists": {id: the labelled Line2D}, "groups": [[id, …], …]}`` (groups of two or
         more that coincide).
     """
+    import textwrap
+
     from matplotlib.transforms import offset_copy
 
     ms = kw.pop("ms", 3.5)
@@ -193,12 +197,13 @@ def plot_coinciding(ax, x, series: dict, ids, labels: bool = True, marker: str |
                                   label=name(i) if labels else "_" + i)
         if note:
             Striped = _striped_handle_class()
-            proxy = Striped([colour(i) for i in g], lw,
-                            "coincide: " + ", ".join(name(i) for i in g))
+            proxy = Striped([colour(i) for i in g], lw,     # wrapped: a legend beside the axes
+                            textwrap.fill("coincide: " + ", ".join(name(i) for i in g), 34,
+                                          subsequent_indent="  "))
             ax.add_line(proxy)
             notes.append(proxy)
     if notes:
-        ax.legend(handles=notes, loc="best", fontsize=8)
+        ax.legend(handles=notes, loc=note_loc, fontsize=8)
     return {"artists": artists, "groups": groups}
 
 
@@ -221,7 +226,8 @@ def plot_error_vs_rate(rows: list[dict], rates=(50, 100, 200, 400), fig=None,
                  ("att", "attitude", "deg", 180 / np.pi, floors[1]))):
             ax = axs[row, col]
             series = {i: [max(by_id[i][f"{key}_{r}"] * scale, floor) for r in rates] for i in ids}
-            plot_coinciding(ax, rates, series, ids, labels=col == 1)
+            plot_coinciding(ax, rates, series, ids, labels=col == 1,
+                            note_loc="lower left")        # errors fall to the right: room there
             ax.set_xscale("log")
             ax.set_yscale("log")
             if min(min(v) for v in series.values()) <= 10 * floor:
@@ -262,7 +268,7 @@ def plot_error_vs_time(motion: BaseMotion, rate: float, names, duration: float |
     plot_coinciding(ax, t, series, ids, marker=None, lw=1.3)
     ax.set_yscale("log")
     ax.set(xlabel="t (s)", ylabel=f"{key} error ({unit})",
-           title=f"{getattr(motion, 'name', 'motion')} at {rate:g} Hz")
+           title=f"{getattr(motion, 'name', 'motion')}, sampled at {rate:g} Hz")
     return ax
 
 
@@ -342,8 +348,8 @@ def plot_verdict(r: dict, cov=None, ax=None, top: int = 5, log: bool = False,
     if log:
         ax.set_yscale("log")
         ax.set_ylim(bottom=1e-3 * min(r["tolerance_m"], max(p95.max(), 1e-300)))
-    if legend:
-        ax.legend(loc="upper left", fontsize=8)
+    if legend:                       # beside the axes: the curves fill the upper left
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
     return ax
 
 
