@@ -145,6 +145,11 @@ def test_large_shift_degrades_the_correction():
     rows = D.large_shift((0.1, 3.0))
     assert rows[1]["ramp_position_error_m"] > 3 * rows[0]["ramp_position_error_m"]
     assert rows[1]["ramp_position_error_m"] < 0.1 * rows[1]["uncorrected_position_error_m"]
+    # a step exactly at the detected onset is corrected whatever its size (measured 0.187 m
+    # both); the default step, 9 ms after the onset, is not (0.19 → 0.71 m)
+    assert rows[1]["onset_step_position_error_m"] == pytest.approx(
+        rows[0]["onset_step_position_error_m"], rel=1e-3)
+    assert rows[1]["step_position_error_m"] > 3 * rows[1]["onset_step_position_error_m"]
 
 
 # ------------------------------------------------------------------ the claims (issue 23)
