@@ -135,7 +135,8 @@ def _striped_handle_class():
 
 
 def plot_coinciding(ax, x, series: dict, ids, labels: bool = True, marker: str | None = "o",
-                    lw: float = 1.5, note: bool = True, note_loc: str = "best", **kw) -> dict:
+                    lw: float = 1.5, note: bool = True, note_loc: str = "best",
+                    note_width: int = 34, note_kw: dict | None = None, **kw) -> dict:
     """Draw ``series[i]`` for each id in its colour. Where several coincide (to 5 % at every
     point: one line on a log axis) they are drawn as *one* striped line — each colour in turn
     along it, :data:`STRIPE_PT` long, no series wider than another — with each series' markers
@@ -158,6 +159,10 @@ def plot_coinciding(ax, x, series: dict, ids, labels: bool = True, marker: str |
         ``ax.legend()`` includes them with the series).
     note_loc : str
         Where that legend goes (``loc`` of ``ax.legend``).
+    note_width : int
+        Characters per line of the "coincide: …" label (it is wrapped).
+    note_kw : dict, optional
+        More keywords of that legend (e.g. ``bbox_to_anchor`` to put it beside the axes).
     **kw
         Passed to ``ax.plot``.
 
@@ -198,12 +203,12 @@ def plot_coinciding(ax, x, series: dict, ids, labels: bool = True, marker: str |
         if note:
             Striped = _striped_handle_class()
             proxy = Striped([colour(i) for i in g], lw,     # wrapped: a legend beside the axes
-                            textwrap.fill("coincide: " + ", ".join(name(i) for i in g), 34,
+                            textwrap.fill("coincide: " + ", ".join(name(i) for i in g), note_width,
                                           subsequent_indent="  "))
             ax.add_line(proxy)
             notes.append(proxy)
     if notes:
-        ax.legend(handles=notes, loc=note_loc, fontsize=8)
+        ax.legend(handles=notes, loc=note_loc, fontsize=8, **(note_kw or {}))
     return {"artists": artists, "groups": groups}
 
 
@@ -226,8 +231,12 @@ def plot_error_vs_rate(rows: list[dict], rates=(50, 100, 200, 400), fig=None,
                  ("att", "attitude", "deg", 180 / np.pi, floors[1]))):
             ax = axs[row, col]
             series = {i: [max(by_id[i][f"{key}_{r}"] * scale, floor) for r in rates] for i in ids}
-            plot_coinciding(ax, rates, series, ids, labels=col == 1,
-                            note_loc="lower left")        # errors fall to the right: room there
+            last = row == len(groups) - 1         # the left column's note under its panel
+            plot_coinciding(ax, rates, series, ids, labels=col == 1,   # (no tick labels there)
+                            note_loc="lower left" if col or last else "upper left",
+                            note_width=34 if col else 40,
+                            note_kw=None if col or last else
+                            {"bbox_to_anchor": (-0.35, -0.02), "frameon": False})
             ax.set_xscale("log")
             ax.set_yscale("log")
             if min(min(v) for v in series.values()) <= 10 * floor:
