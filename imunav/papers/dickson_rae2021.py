@@ -489,6 +489,7 @@ def plot_frames(rec: BlastRecording, res: BlastResult, times=(0.0, 0.25, 0.5, 1.
         draw_object(ax, res.q[k], res.p[k])
         ax.set(xlim=(-4, 1), ylim=(-2.5, 2.5), zlim=(-3, 1), title=f"t = {rec.t[k]:.2f} s",
                xticks=(-4, -2, 0), yticks=(-2, 0, 2), zticks=(-2, 0))
+        ax.set_box_aspect(None, zoom=0.85)        # room for every panel's "up (m)" label
         label_ned_axes(ax)
     return fig
 

@@ -429,6 +429,8 @@ _ = interact(explore,
 
 # %% [markdown]
 # ### Animation and a time scrubber (processed attitude and corrected position)
+# The animation plays in the book without a kernel; the scrubber below it needs a live one —
+# its static version is the six frames of §4 (the Fig. 4 analogue).
 
 # %%
 # NBVAL_IGNORE_OUTPUT
