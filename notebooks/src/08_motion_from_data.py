@@ -352,7 +352,7 @@ for ax in axs:
     ax.set_xticks(x, [f"{v:g}" for v in x])
 axs[0].set(xlabel="smoothing σ (mm; 0 = interpolating)", ylabel=r"rms $f_b$ error (m/s²)")
 axs[1].set(xlabel="smoothing σ (mm; 0 = interpolating)", ylabel=r"rms $\omega_b$ error (rad/s)")
-axs[0].legend(loc="lower left", fontsize=8)
+axs[0].legend(loc="upper right", fontsize=8)       # the errors are large at the left
 plt.show()
 
 # %% [markdown]
