@@ -28,6 +28,7 @@ from imunav.core.constants import G0
 from imunav.core.resources import check_disk
 from imunav.core.validation import ImunavError, check_positive
 from imunav.earth import check_origin
+from imunav.estimation.alignment import ALIGNMENTS, WINDOW
 from imunav.estimation.filters import SD_COLUMNS, run_filter
 from imunav.io import realdata
 from imunav.io.aiding import AIDING_FILES, check_span, read_aiding, write_aiding
@@ -200,6 +201,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="Monte Carlo runs (--method montecarlo)")
     a.add_argument("--seed", type=_integer("--seed", 0), help="Monte Carlo seed (default 0)")
     a.add_argument("--json", metavar="OUT.json")
+    _alignment_options(a)
     a.add_argument("--scheduler", metavar="ADDRESS",
                    help="run the Monte Carlo on a Dask cluster (imunav[dask])")
     _earth_options(a, vertical=True)
@@ -212,6 +214,7 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument("--rate", required=True, type=_positive("--rate"), metavar="HZ")
     d.add_argument("--tolerance", required=True, type=_positive("--tolerance"), metavar="M")
     d.add_argument("--json", metavar="OUT.json")
+    _alignment_options(d)
     _earth_options(d, vertical=True)
 
     al = sub.add_parser("allan", help="fit an IMU model (N, B, K) to a static recording's "
@@ -242,6 +245,27 @@ MOTION_HELP = ("the motion: MOTION.toml (analytic laws), a pose CSV (t,x,y,z,qw,
 
 #: The navigation frames of the command line.
 EARTHS = ("flat", "wgs84")
+
+
+def _alignment_options(p) -> None:
+    p.add_argument("--alignment", choices=ALIGNMENTS, default="truth",
+                   help="the initial attitude: truth (default), or level — roll and pitch "
+                        "levelled from the accelerometer at rest before the motion, which "
+                        "absorbs its horizontal bias into the initial tilt (flat frame)")
+    p.add_argument("--align-window", type=_positive("--align-window"), metavar="S",
+                   help=f"with --alignment level: seconds at rest averaged (default {WINDOW:g})")
+
+
+def _alignment(args, motion) -> dict:
+    """The library's alignment arguments from ``--alignment``/``--align-window``."""
+    if args.alignment == "truth":
+        if args.align_window is not None:
+            raise ImunavError("--align-window applies to --alignment level only")
+        return {}
+    if motion.frame != "flat":
+        raise ImunavError("--alignment level works on --earth flat only (levelling on the "
+                          "rotating Earth is not modelled)")
+    return {"alignment": "level", "align_window": args.align_window or WINDOW}
 
 
 def _origin(text: str) -> tuple[float, float, float]:
@@ -476,12 +500,13 @@ def cmd_assess(args) -> int:
                 raise ImunavError(f"{opt} applies to --method montecarlo only")
     motion, duration, g_file = _motion(args)
     motion = _on_earth(args, motion, g_file)
+    al = _alignment(args, motion)
     if method == "covariance":
         r = assess_covariance(motion, model, args.rate, args.tolerance, duration=duration,
-                              vertical=args.vertical)
+                              vertical=args.vertical, **al)
     else:
         r = assess(motion, model, args.rate, args.runs, args.tolerance, seed=args.seed or 0,
-                   duration=duration, scheduler=args.scheduler, vertical=args.vertical)
+                   duration=duration, scheduler=args.scheduler, vertical=args.vertical, **al)
     print(format_verdict(r))
     if args.json:
         write_json(r, out["--json"])
@@ -495,7 +520,7 @@ def cmd_design(args) -> int:
     motion, duration, g_file = _motion(args)
     motion = _on_earth(args, motion, g_file)
     r = design(motion, model, args.rate, args.tolerance, duration=duration,
-               vertical=args.vertical)
+               vertical=args.vertical, **_alignment(args, motion))
     print(format_design(r))
     if args.json:
         write_json(r, out["--json"])
@@ -657,7 +682,8 @@ FLAGS = {"imu": "--imu", "smoothing": "--smoothing", "attitude_smoothing": "--at
          "scheduler": "--scheduler", "runs": "--runs", "seed": "--seed", "rate": "--rate",
          "tolerance": "--tolerance", "algorithm": "--algorithm", "initial": "--initial",
          "measurements": "--measurements", "covariance_step": "--covariance-step",
-         "gate": "--gate", "origin": "--origin", "earth": "--earth", "g": "--g"}
+         "gate": "--gate", "origin": "--origin", "earth": "--earth", "g": "--g",
+         "alignment": "--alignment", "align_window": "--align-window"}
 
 
 def flagged(exc: ImunavError) -> str:

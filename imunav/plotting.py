@@ -94,24 +94,130 @@ def _merge_identical(ids, series, rtol=0.05):
     return groups
 
 
+#: Length (pt) of each colour's stripe in a line drawn for several coinciding series.
+STRIPE_PT = 5.0
+
+
+def _striped_handle_class():
+    """The legend handle of a group of coinciding series (a proxy that draws nothing in the
+    axes) and its legend handler, which draws the group's colours as stripes of one line."""
+    from matplotlib.legend import Legend
+    from matplotlib.legend_handler import HandlerBase
+    from matplotlib.lines import Line2D
+
+    if getattr(_striped_handle_class, "done", None):
+        return _striped_handle_class.done
+
+    class Striped(Line2D):
+        """Proxy: the colours (and line width) of a group of coinciding series."""
+
+        def __init__(self, colours, lw, label):
+            super().__init__([], [], lw=lw, label=label)
+            self.colours = list(colours)
+
+    class HandlerStriped(HandlerBase):
+        def create_artists(self, legend, orig, xdescent, ydescent, width, height, fontsize,
+                           trans):
+            k, y = len(orig.colours), height / 2 - ydescent
+            step = width / (2 * k)                     # each colour twice along the sample
+            out = []
+            for n in range(2 * k):
+                x0 = n * step - xdescent
+                seg = Line2D([x0, x0 + step], [y, y], color=orig.colours[n % k],
+                             lw=orig.get_linewidth() + 0.8, solid_capstyle="butt")
+                seg.set_transform(trans)
+                out.append(seg)
+            return out
+
+    Legend.update_default_handler_map({Striped: HandlerStriped()})
+    _striped_handle_class.done = Striped
+    return Striped
+
+
 def plot_coinciding(ax, x, series: dict, ids, labels: bool = True, marker: str | None = "o",
-                    lw: float = 1.5, **kw):
-    """Draw ``series[i]`` for each id; where several coincide (to 5 % at every point: one line
-    on a log axis) they are drawn as one striped line — widest first — so that every colour
-    stays visible."""
+                    lw: float = 1.5, note: bool = True, note_loc: str = "best",
+                    note_width: int = 34, note_kw: dict | None = None, **kw) -> dict:
+    """Draw ``series[i]`` for each id in its colour. Where several coincide (to 5 % at every
+    point: one line on a log axis) they are drawn as *one* striped line — each colour in turn
+    along it, :data:`STRIPE_PT` long, no series wider than another — with each series' markers
+    side by side at the shared points (offset by a few points on the page, not in the data).
+
+    Parameters
+    ----------
+    ax : Axes
+    x : array_like
+    series : dict of id to array_like
+    ids : list of str
+        Named things (:func:`name`, :func:`colour`), in drawing order.
+    labels : bool
+        Give each series its name as a legend label.
+    marker : str or None
+    lw : float
+    note : bool
+        For each group that coincides, a legend entry drawn as the striped line and labelled
+        "coincide: …" (a legend of these entries alone is drawn on ``ax``; a later
+        ``ax.legend()`` includes them with the series).
+    note_loc : str
+        Where that legend goes (``loc`` of ``ax.legend``).
+    note_width : int
+        Characters per line of the "coincide: …" label (it is wrapped).
+    note_kw : dict, optional
+        More keywords of that legend (e.g. ``bbox_to_anchor`` to put it beside the axes).
+    **kw
+        Passed to ``ax.plot``.
+
+    Returns
+    -------
+    dict
+        ``{"artists": {id: the labelled Line2D}, "groups": [[id, …], …]}`` (groups of two or
+        more that coincide).
+    """
+    import textwrap
+
+    from matplotlib.transforms import offset_copy
+
+    ms = kw.pop("ms", 3.5)
+    artists, groups, notes = {}, [], []
     for g in _merge_identical(ids, series):
         k = len(g)
+        if k == 1:
+            i = g[0]
+            artists[i], = ax.plot(x, series[i], "-", marker=marker, lw=lw, ms=ms,
+                                  color=colour(i), label=name(i) if labels else "_" + i, **kw)
+            continue
+        groups.append(g)
+        period = STRIPE_PT * k / lw                    # dash lengths are in line widths
         for j, i in enumerate(g):
-            extra = 2.0 * (k - 1 - j)
-            ax.plot(x, series[i], "-", marker=marker, lw=lw + extra, ms=3.5 + extra,
-                    color=colour(i), label=name(i) if labels else "_" + i, **kw)
+            ax.plot(x, series[i], color=colour(i), lw=lw, solid_capstyle="butt",
+                    dash_capstyle="butt", label="_" + i,
+                    linestyle=(((k - j) % k) * STRIPE_PT / lw,
+                               (STRIPE_PT / lw, period - STRIPE_PT / lw)), **kw)
+            if marker:
+                dx = (j - (k - 1) / 2) * (ms + 0.6)    # points: the markers side by side
+                ax.plot(x, series[i], ls="none", marker=marker, ms=ms, color=colour(i),
+                        label="_" + i + " markers",
+                        transform=offset_copy(ax.transData, fig=ax.figure, x=dx, units="points"))
+            # the legend entry of the series: its colour and marker, drawn nowhere in the axes
+            artists[i], = ax.plot([], [], "-", marker=marker, lw=lw, ms=ms, color=colour(i),
+                                  label=name(i) if labels else "_" + i)
+        if note:
+            Striped = _striped_handle_class()
+            proxy = Striped([colour(i) for i in g], lw,     # wrapped: a legend beside the axes
+                            textwrap.fill("coincide: " + ", ".join(name(i) for i in g), note_width,
+                                          subsequent_indent="  "))
+            ax.add_line(proxy)
+            notes.append(proxy)
+    if notes:
+        ax.legend(handles=notes, loc=note_loc, fontsize=8, **(note_kw or {}))
+    return {"artists": artists, "groups": groups}
 
 
 def plot_error_vs_rate(rows: list[dict], rates=(50, 100, 200, 400), fig=None,
                        floors=(1e-10, 1e-11)):
     """Maximum position (left) and attitude (right) error vs rate, log–log, one row per group of
-    :data:`ALGORITHM_GROUPS`. Algorithms whose errors coincide are drawn as one striped line;
-    values below ``floors`` (m, deg: rounding) are drawn on the floor (dotted)."""
+    :data:`ALGORITHM_GROUPS`. Algorithms whose errors coincide are drawn as one striped line
+    with a legend entry that names them; values below ``floors`` (m, deg: rounding) are drawn
+    on the floor (dotted, shown in panels with a value near it)."""
     import matplotlib.pyplot as plt
 
     by_id = {algorithm_id(r["kind"], r["algorithm"]): r for r in rows}
@@ -125,18 +231,24 @@ def plot_error_vs_rate(rows: list[dict], rates=(50, 100, 200, 400), fig=None,
                  ("att", "attitude", "deg", 180 / np.pi, floors[1]))):
             ax = axs[row, col]
             series = {i: [max(by_id[i][f"{key}_{r}"] * scale, floor) for r in rates] for i in ids}
-            plot_coinciding(ax, rates, series, ids, labels=col == 1)
+            last = row == len(groups) - 1         # the left column's note under its panel
+            plot_coinciding(ax, rates, series, ids, labels=col == 1,   # (no tick labels there)
+                            note_loc="lower left" if col or last else "upper left",
+                            note_width=34 if col else 40,
+                            note_kw=None if col or last else
+                            {"bbox_to_anchor": (-0.35, -0.02), "frameon": False})
             ax.set_xscale("log")
             ax.set_yscale("log")
-            ax.axhline(floor, color="0.5", lw=0.8, ls=":")
+            if min(min(v) for v in series.values()) <= 10 * floor:
+                ax.axhline(floor, color="0.5", lw=0.8, ls=":")
             rate_ticks(ax, rates)
             ax.set(ylabel=f"max {what} error ({unit})")
             ax.set_title(title if col == 0 else "", loc="left")
             if row == len(groups) - 1:
                 ax.set_xlabel("sample rate (Hz)")
         axs[row, 1].legend(loc="center left", bbox_to_anchor=(1.02, 0.5), fontsize=8)
-    fig.suptitle("dotted: the rounding floor (errors below it are drawn on it); "
-                 "lines that coincide are drawn as one striped line", fontsize=8.5)
+    fig.suptitle("dotted: the rounding floor (errors below it are drawn on it); a striped "
+                 "line is several that coincide", fontsize=8.5)
     return fig
 
 
@@ -150,7 +262,8 @@ def plot_error_vs_time(motion: BaseMotion, rate: float, names, duration: float |
                        ax=None, quantity: str = "attitude"):
     """Error norm (log scale) vs time for ``names`` = [(kind, algorithm), …] (at most 8);
     ``quantity`` is ``"attitude"`` (deg), ``"velocity"`` (m/s) or ``"position"`` (m).
-    Algorithms whose errors coincide are drawn as one striped line."""
+    Algorithms whose errors coincide are drawn as one striped line, named in a legend entry
+    (:func:`plot_coinciding`)."""
     import matplotlib.pyplot as plt
 
     key, unit, scale = _QUANTITY[quantity]
@@ -164,13 +277,14 @@ def plot_error_vs_time(motion: BaseMotion, rate: float, names, duration: float |
     plot_coinciding(ax, t, series, ids, marker=None, lw=1.3)
     ax.set_yscale("log")
     ax.set(xlabel="t (s)", ylabel=f"{key} error ({unit})",
-           title=f"{getattr(motion, 'name', 'motion')} at {rate:g} Hz")
+           title=f"{getattr(motion, 'name', 'motion')}, sampled at {rate:g} Hz")
     return ax
 
 
 def plot_convergence(rows: list[dict], ax=None, key: str = "max_att_rad"):
     """Log–log maximum error vs rate (at most 8 algorithms), each with a dotted reference line
-    of its documented order; coinciding series are drawn as one striped line."""
+    of its documented order; coinciding series are drawn as one striped line, named in a legend
+    entry (:func:`plot_coinciding`)."""
     import matplotlib.pyplot as plt
 
     ax = ax or plt.figure(figsize=(WIDTH_IN, 3.6), layout="constrained").add_subplot()
@@ -179,9 +293,8 @@ def plot_convergence(rows: list[dict], ax=None, key: str = "max_att_rad"):
     by = dict(zip(ids, rows, strict=True))
     series = {i: list(np.asarray(by[i][key]) * scale) for i in ids}
     x = np.asarray(rows[0]["rates"], float)
-    plot_coinciding(ax, x, series, ids)
-    for line in ax.lines:
-        i = next(k for k in ids if name(k) == line.get_label() or "_" + k == line.get_label())
+    drawn = plot_coinciding(ax, x, series, ids)
+    for i, line in drawn["artists"].items():
         line.set_label(f"{name(i)} ({by[i]['order_att']:.1f})")
     for i in ids:
         e, p = np.asarray(series[i]), by[i]["documented"][0]
@@ -244,8 +357,8 @@ def plot_verdict(r: dict, cov=None, ax=None, top: int = 5, log: bool = False,
     if log:
         ax.set_yscale("log")
         ax.set_ylim(bottom=1e-3 * min(r["tolerance_m"], max(p95.max(), 1e-300)))
-    if legend:
-        ax.legend(loc="upper left", fontsize=8)
+    if legend:                       # beside the axes: the curves fill the upper left
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
     return ax
 
 

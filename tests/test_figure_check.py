@@ -216,3 +216,53 @@ def test_3d_axes_are_not_judged_by_2d_geometry():
     ax.set(xlim=(-1.1, 1.1), ylim=(-1.1, 1.1), zlim=(-1.1, 1.1))
     ax.legend()
     assert P.check_figure(fig) == []
+
+
+# ------------------------------------------------------------------ coinciding series
+
+def _pixels_of(fig, colour):
+    """How many pixels of the rendered figure have ``colour`` (within a few levels)."""
+    import matplotlib.colors as mc
+
+    fig.canvas.draw()
+    rgb = np.asarray(fig.canvas.buffer_rgba())[:, :, :3].astype(int)
+    want = np.array([round(255 * c) for c in mc.to_rgb(colour)])
+    return int((np.abs(rgb - want).max(axis=-1) <= 6).sum())
+
+
+def test_coinciding_series_are_one_striped_line_every_colour_visible():
+    """Three series that coincide and one apart: one line made of the three colours in turn
+    (equal widths: no halo), each series' markers beside the others', the check passes, and a
+    legend entry names the three."""
+    x = np.array([50.0, 100.0, 200.0, 400.0])
+    same = ("increments/coning2", "increments/miller3", "increments/ignagni3")
+    series = {i: 1e-2 * (x / 50) ** -2 for i in same}
+    series["increments/first_order"] = 3e-2 * (x / 50) ** -2
+    ids = [*same, "increments/first_order"]
+    fig, ax = P.figure()
+    drawn = P.plot_coinciding(ax, x, series, ids)
+    ax.set(xscale="log", yscale="log", xlabel="sample rate (Hz)",
+           ylabel="max position error (m)")
+    assert drawn["groups"] == [list(same)]
+    widths = {ln.get_linewidth() for ln in ax.lines if len(ln.get_xdata()) and
+              ln.get_linestyle() != "None"}
+    assert widths == {1.5}
+    ax.legend(loc="lower left")
+    assert P.check_figure(fig) == []
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert "coincide: two-sample coning, Miller 3-sample, Ignagni 3-sample" in [
+        " ".join(x.split()) for x in labels]                    # the label is wrapped
+    assert {P.name(i) for i in ids} <= set(labels)
+    fig.savefig(__import__("io").BytesIO())
+    lone = _pixels_of(fig, P.colour("increments/first_order"))
+    for i in same:                 # each stripe and marker set shows its colour
+        assert _pixels_of(fig, P.colour(i)) > 0.2 * lone, i
+
+
+def test_without_a_group_nothing_is_striped_or_noted():
+    x = np.array([1.0, 2.0, 3.0])
+    fig, ax = P.figure()
+    drawn = P.plot_coinciding(ax, x, {"increments/coning2": x, "increments/miller3": 2 * x},
+                              ["increments/coning2", "increments/miller3"])
+    assert drawn["groups"] == [] and ax.get_legend() is None
+    assert all(ln.get_linestyle() == "-" for ln in ax.lines)

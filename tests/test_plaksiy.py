@@ -3,6 +3,7 @@
 import mpmath
 import numpy as np
 import pytest
+import sympy as sp
 
 from imunav import ImunavError, navigate, simulate_imu
 from imunav.papers import plaksiy as P
@@ -194,3 +195,26 @@ def test_table1_ordering_reversed_under_both_updates():
         o = P.table1_ordering(runs)
         assert o["paper_conic_over_miller"] < 1 < o["imunav_conic_over_miller"], form
         assert o["imunav_new_over_miller"] < 1 and o["paper_new_over_miller"] < 1, form
+
+
+def test_alpha_plus_beta_90_80_is_the_leading_term_condition():
+    ml = S.miller_leading_term()
+    assert ml["alpha_plus_beta"] == [sp.Rational(9, 8)]
+    assert ml["only_a_cross_b"] and ml["lower_orders_vanish"]
+    # numerically, independent of SymPy: for ω = a + b t the exact non-commutativity term over
+    # a step is h³/12 (a×b); every (α, β) on α + β = 90/80 gives it, a point off the line not
+    a, b, h = np.array([0.3, -0.1, 0.2]), np.array([0.05, 0.4, -0.2]), 0.1
+    th = [a * h / 3 + b * ((k + 1) ** 2 - k**2) * (h / 3) ** 2 / 2 for k in range(3)]
+    exact = h**3 / 12 * np.cross(a, b)
+    for al in (0.0, 0.7, -3.5):
+        phi = P.miller_rotation_vector(*th, al, 90 / 80 - al)
+        np.testing.assert_allclose(phi - sum(th), exact, rtol=1e-12)
+    off = P.miller_rotation_vector(*th, 0.5, 0.5) - sum(th)
+    assert np.linalg.norm(off - exact) > 0.05 * np.linalg.norm(exact)
+
+
+def test_drift_is_fourth_order_on_the_line_and_second_off_it():
+    m = P.FourRotationMotion()
+    _, on = P.drift_order(m, (0.2, 0.1, 0.05), duration=50.0)
+    _, off = P.drift_order(m, (0.2, 0.1, 0.05), duration=50.0, alpha=0.5, beta=0.5)
+    assert abs(on - 4) < 0.3 and abs(off - 2) < 0.3        # 200 s, 0.4–0.05 s: 3.98 and 2.09

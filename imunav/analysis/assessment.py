@@ -3,7 +3,7 @@ position error against a tolerance, the error budget per term, the minimum usefu
 text a non-specialist can act on.
 
 May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``, ``imunav.strapdown``,
-``imunav.analysis``.
+``imunav.estimation``, ``imunav.analysis``.
 """
 
 from __future__ import annotations
@@ -21,6 +21,7 @@ from imunav.analysis.gaussnorm import norm_quantile
 from imunav.analysis.metrics import nav_errors
 from imunav.analysis.montecarlo import MonteCarloResult, monte_carlo
 from imunav.core.validation import check_positive
+from imunav.estimation.alignment import WINDOW, check_alignment
 from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import ImuModel, TriadModel
 from imunav.sensors.simulate import signal_chunks
@@ -219,7 +220,8 @@ def deterministic_error(motion: BaseMotion, model: ImuModel, rate: float,
 
 def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, tolerance: float,
                       duration: float | None = None, output: str = "increments",
-                      progress: bool = True, vertical: str = "free") -> dict:
+                      progress: bool = True, vertical: str = "free", *,
+                      alignment: str = "truth", align_window: float = WINDOW) -> dict:
     """The applicability verdict by linear covariance analysis (:mod:`~imunav.analysis.covariance`).
 
     A fraction of a second where Monte Carlo takes tens of seconds; exact for the linear
@@ -245,6 +247,13 @@ def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, toleranc
     vertical : {"free", "hold"}, default "free"
         On the WGS-84 Earth: hold the vertical channel at the true height (a perfect height
         aid); free, a verdict dominated by the unstable vertical channel says so.
+    alignment : {"truth", "level"}, default "truth"
+        The initial attitude: the truth, or levelled from the accelerometer at rest over
+        ``align_window`` seconds before the motion (:mod:`imunav.estimation.alignment`; flat
+        frame only; the heading is given). With ``"level"`` the verdict says so
+        (``r["alignment"]``).
+    align_window : float, default WINDOW
+        The levelling window (s), > 0.
 
     Returns
     -------
@@ -260,6 +269,8 @@ def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, toleranc
         If ``tolerance`` is not a finite number > 0, or for the reasons of the covariance
         analysis (a ``rate`` or duration that is not a finite number > 0, an unknown
         ``output`` or ``vertical``, ``"hold"`` on the flat frame, …).
+        Also if ``alignment`` is not ``"truth"`` or ``"level"``, ``align_window`` is not
+        a finite number > 0, or ``"level"`` is asked on the WGS-84 Earth.
 
     Examples
     --------
@@ -273,8 +284,11 @@ def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, toleranc
     (False, 1.398, 8.5)
     """
     tolerance = check_positive(tolerance, "tolerance")
+    alignment, align_window = check_alignment(alignment, align_window, motion.frame)
+    al = {} if alignment == "truth" else {"alignment": alignment, "align_window": align_window}
     cov = covariance_summary(motion, model, rate, duration, output=output, tolerance=tolerance,
-                             level=SUITABLE_FRACTION, progress=progress, vertical=vertical)
+                             level=SUITABLE_FRACTION, progress=progress, vertical=vertical,
+                             **al)
     r = verdict_covariance(cov, tolerance, min_sample_rate(motion, tolerance, duration, output),
                            motion=motion.name, imu=model.name)
     det = deterministic_error(motion, model, rate, duration, output,
@@ -295,13 +309,21 @@ def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, toleranc
         note = vertical_note(r["final_p95_position_m"], hor, vertical)
         if note:
             r["warnings"].append(note)
+    _say_alignment(r, alignment, align_window)
     return r
+
+
+def _say_alignment(r: dict, alignment: str, window: float) -> None:
+    """Record a levelled start in the verdict (the truth start, the default, adds nothing)."""
+    if alignment == "level":
+        r["alignment"] = {"method": "level", "window_s": float(window)}
 
 
 def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int, tolerance: float,
            seed: int = 0, duration: float | None = None, output: str = "increments",
            budget_runs: int | None = None, scheduler: str | None = None,
-           progress: bool = True, vertical: str = "free") -> dict:
+           progress: bool = True, vertical: str = "free", *, alignment: str = "truth",
+           align_window: float = WINDOW) -> dict:
     """The applicability verdict by Monte Carlo: the numbers of ``imunav assess`` (see
     :func:`verdict` and :func:`format_verdict`).
 
@@ -334,6 +356,11 @@ def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int, toleranc
     vertical : {"free", "hold"}, default "free"
         On the WGS-84 Earth: hold the vertical channel at the true height (a perfect height
         aid); free, a verdict dominated by the unstable vertical channel says so.
+    alignment : {"truth", "level"}, default "truth"
+        Each run from the true attitude, or from its own levelled one (as
+        :func:`assess_covariance`); with ``"level"`` the verdict says so (``r["alignment"]``).
+    align_window : float, default WINDOW
+        The levelling window (s), > 0.
 
     Returns
     -------
@@ -350,6 +377,8 @@ def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int, toleranc
         If ``tolerance`` is not a finite number > 0, or for the reasons of
         :func:`~imunav.analysis.montecarlo.monte_carlo` (``runs``, ``seed``, ``rate``,
         ``vertical``, ``scheduler`` …).
+        Also if ``alignment`` is not ``"truth"`` or ``"level"``, ``align_window`` is not
+        a finite number > 0, or ``"level"`` is asked on the WGS-84 Earth.
 
     Examples
     --------
@@ -361,11 +390,14 @@ def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int, toleranc
     (False, ['accel.bias'])
     """
     tolerance = check_positive(tolerance, "tolerance")
+    alignment, align_window = check_alignment(alignment, align_window, motion.frame)
+    al = {} if alignment == "truth" else {"alignment": alignment, "align_window": align_window}
     mc = monte_carlo(motion, model, rate, duration, runs, seed, output, scheduler=scheduler,
-                     progress=progress, vertical=vertical)
+                     progress=progress, vertical=vertical, **al)
     br = budget_runs or min(runs, 200)
     budget = {term: monte_carlo(motion, model.only(term), rate, duration, br, seed, output,
-                                scheduler=scheduler, progress=False, vertical=vertical)
+                                scheduler=scheduler, progress=False, vertical=vertical,
+                                **al)
               for term in model.terms()}
     r = verdict(mc, tolerance, budget, min_sample_rate(motion, tolerance, duration, output),
                 motion=motion.name, imu=model.name, seed=seed)
@@ -376,6 +408,7 @@ def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int, toleranc
         note = vertical_note(r["final_p95_position_m"], hor, vertical)
         if note:
             r["warnings"].append(note)
+    _say_alignment(r, alignment, align_window)
     return r
 
 
@@ -435,6 +468,9 @@ def format_verdict(r: dict) -> str:
     how = "covariance analysis" if cov else f"{r['runs']} runs (seed {r['seed']})"
     lines = [f"IMU {r['imu']} on motion {r['motion']} at {r['rate_hz']:g} Hz, {how}, "
              f"tolerance {r['tolerance_m']:g} m:"]
+    if r.get("alignment"):
+        lines.append(f"  Initial attitude levelled from the accelerometer at rest over "
+                     f"{r['alignment']['window_s']:g} s before the motion (heading given).")
     ok = r.get("suitable", r["fraction_within_tolerance"] >= SUITABLE_FRACTION)
     need = f"(needed: {100 * SUITABLE_FRACTION:g} %)"
     if cov and ok:

@@ -33,6 +33,7 @@ from imunav.analysis.gaussnorm import (
 from imunav.core.constants import G0
 from imunav.core.kernels import FloatArray
 from imunav.core.resources import check_memory
+from imunav.estimation.alignment import WINDOW, check_alignment, levelled_sources
 from imunav.estimation.error_model import LazyTrajectory, Trajectory, error_model, linearise
 from imunav.estimation.propagation import CHUNK, propagate, propagate_chunks
 from imunav.motion.base import BaseMotion, span
@@ -653,7 +654,8 @@ LINEAR_LIMIT = 0.3
 
 def covariance(motion: BaseMotion, model: ImuModel, rate: float, duration: float | None = None,
                g: float = G0, output: str = "increments", trajectory: Trajectory | None = None,
-               vertical: str = "free") -> CovarianceResult:
+               vertical: str = "free", *, alignment: str = "truth",
+               align_window: float = WINDOW) -> CovarianceResult:
     """Propagate every sensor error term of ``model`` along ``motion`` at ``rate`` Hz.
 
     Parameters
@@ -673,6 +675,12 @@ def covariance(motion: BaseMotion, model: ImuModel, rate: float, duration: float
     vertical : {"free", "hold"}
         On the WGS-84 Earth (an :class:`~imunav.motion.geodetic.EarthMotion`): the vertical
         channel free or held at the true height (a perfect height aid).
+    alignment : {"truth", "level"}
+        The initial attitude: the truth, or levelled from the accelerometer at rest over
+        ``align_window`` seconds before the motion (:mod:`imunav.estimation.alignment`: the
+        tilt then absorbs the horizontal accelerometer errors of the window; flat frame only).
+    align_window : float
+        Seconds of the levelling window.
 
     Returns
     -------
@@ -691,6 +699,7 @@ def covariance(motion: BaseMotion, model: ImuModel, rate: float, duration: float
     duration = span(motion, rate, duration)
     traj = trajectory or Trajectory.of(motion, rate, duration, g)
     sources, warnings = linearise(model, traj, output, model.decimation(rate))
+    sources = _aligned(sources, motion, traj, rate, g, alignment, align_window)
     em = error_model(traj, vertical)
     terms = {s.name: em.local(traj, P) for s, P in zip(sources, propagate(sources, traj, em),
                                                         strict=True)}
@@ -699,6 +708,16 @@ def covariance(motion: BaseMotion, model: ImuModel, rate: float, duration: float
                            traj.max_force, warnings)
     _attitude_warning(res, bool(terms))
     return res
+
+
+def _aligned(sources, motion, traj, rate, g, alignment, align_window):
+    """The sources as :func:`~imunav.estimation.alignment.levelled_sources` for
+    ``alignment="level"`` (levelling at rest at the motion's initial attitude), else as given."""
+    alignment, align_window = check_alignment(alignment, align_window, traj.frame)
+    if alignment == "truth":
+        return sources
+    q0 = motion.attitude(np.zeros(1))[0]
+    return levelled_sources(sources, q0, align_window, rate, g)
 
 
 def _sum(parts: list[FloatArray]) -> FloatArray:
@@ -714,7 +733,8 @@ def covariance_summary(motion: BaseMotion, model: ImuModel, rate: float,
                        output: str = "increments", *, tolerance: float | None = None,
                        level: float = 0.0, p: float = 0.95, maxima: bool = False,
                        trajectory: LazyTrajectory | None = None, progress: bool = False,
-                       chunk: int = CHUNK, vertical: str = "free") -> CovarianceSummary:
+                       chunk: int = CHUNK, vertical: str = "free", alignment: str = "truth",
+                       align_window: float = WINDOW) -> CovarianceSummary:
     """:func:`covariance` streamed: the same propagation, a piece of the trajectory at a time,
     keeping only the grid of the envelope and the exact extrema an assessment needs — in memory
     that does not grow with the record.
@@ -748,6 +768,10 @@ def covariance_summary(motion: BaseMotion, model: ImuModel, rate: float,
         Steps per piece.
     vertical : {"free", "hold"}
         On the WGS-84 Earth: the vertical channel free or held (a perfect height aid).
+    alignment : {"truth", "level"}
+        The initial attitude, as :func:`covariance`.
+    align_window : float
+        Seconds of the levelling window.
 
     Returns
     -------
@@ -766,6 +790,7 @@ def covariance_summary(motion: BaseMotion, model: ImuModel, rate: float,
     duration = span(motion, rate, duration)
     traj = trajectory or LazyTrajectory(motion, rate, duration, g)
     sources, warnings = linearise(model, traj, output, model.decimation(rate))
+    sources = _aligned(sources, motion, traj, rate, g, alignment, align_window)
     names = [s.name for s in sources]
     n = traj.steps
     grid = envelope_index(n + 1)
@@ -774,10 +799,14 @@ def covariance_summary(motion: BaseMotion, model: ImuModel, rate: float,
                  "a lower --rate or a shorter duration")
     terms = {k: np.zeros((grid.size, 9, 9)) for k in names}
     total = np.zeros((grid.size, 9, 9))
+    if alignment == "level":                                 # the levelled attitude's error
+        for k, src in zip(names, sources, strict=True):
+            terms[k][0] = src.initial_covariance()[:9, :9]
+        total[0] = _sum([terms[k][0] for k in names]) if names else 0.0
     within = WithinTracker(tolerance, level) if tolerance is not None else None
     tracks = {k: MaxQuantileTracker(p) for k in [*names, None]} if maxima and names else {}
     bar = _progress(n, sources, progress)
-    gi = 1                                                   # grid[0] = 0: no error yet
+    gi = 1                                                   # grid[0]: the initial errors
     for lo, hi, covs in propagate_chunks(sources, traj, error_model(traj, vertical), chunk=chunk,
                                          local=True):
         tot = _sum(covs) if covs else np.zeros((hi - lo, 9, 9))

@@ -16,6 +16,7 @@ from __future__ import annotations
 from imunav.analysis.assessment import PERCENTILE, SUITABLE_FRACTION, min_sample_rate
 from imunav.analysis.covariance import covariance_summary
 from imunav.core.validation import check_positive
+from imunav.estimation.alignment import WINDOW
 from imunav.estimation.error_model import LazyTrajectory
 from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import ImuModel
@@ -45,7 +46,8 @@ def in_datasheet_units(term: str, si: float) -> str:
 
 def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
            duration: float | None = None, output: str = "increments",
-           progress: bool = True, vertical: str = "free") -> dict:
+           progress: bool = True, vertical: str = "free", *, alignment: str = "truth",
+           align_window: float = WINDOW) -> dict:
     """The worst IMU that still tracks ``motion`` within ``tolerance``.
 
     Limits of each error term of ``base``, the common scale, the minimum rate and every
@@ -71,6 +73,13 @@ def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
         Show progress bars on long analyses.
     vertical : {"free", "hold"}, default "free"
         On the WGS-84 Earth: the vertical channel free or held at the true height.
+    alignment : {"truth", "level"}, default "truth"
+        The initial attitude: the truth, or levelled from the accelerometer at rest over
+        ``align_window`` seconds before the motion (as :func:`~imunav.analysis.assessment.assess_covariance`);
+        each term's covariance still scales with the square of its value, so the limits stay
+        exact.
+    align_window : float, default WINDOW
+        The levelling window (s), > 0.
 
     Returns
     -------
@@ -89,13 +98,16 @@ def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
         If ``tolerance`` is not a finite number > 0, or for the reasons of the covariance
         analysis (a ``rate`` or ``duration`` that is not a finite number > 0, an unknown
         ``output`` or ``vertical``, …).
+        Also if ``alignment`` is not ``"truth"`` or ``"level"``, ``align_window`` is not
+        a finite number > 0, or ``"level"`` is asked on the WGS-84 Earth.
     """
     tolerance = check_positive(tolerance, "tolerance")
     p = PERCENTILE / 100
     duration = span(motion, rate, duration)
     traj = LazyTrajectory(motion, rate, duration)
+    al = {"alignment": alignment, "align_window": align_window}
     cov = covariance_summary(motion, base, rate, duration, output=output, p=p, maxima=True,
-                             trajectory=traj, progress=progress, vertical=vertical)
+                             trajectory=traj, progress=progress, vertical=vertical, **al)
     terms = {}
     for term in cov.terms:
         triad, _, name = term.partition(".")
@@ -112,14 +124,14 @@ def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
     for name in PRESETS:
         pc = covariance_summary(motion, ImuModel.load(name), rate, duration, output=output,
                                 tolerance=tolerance, trajectory=traj, progress=progress,
-                                vertical=vertical)
+                                vertical=vertical, **al)
         final = float(pc.position_quantile(p, index=-1)) if pc.terms else 0.0
         within = pc.min_position_within(tolerance) if pc.terms else 1.0
         presets.append({"name": name, "final_p95_position_m": final,
                         "suitable": within >= SUITABLE_FRACTION,
                         "warnings": pc.warnings})
     presets.sort(key=lambda r: r["final_p95_position_m"])
-    return {
+    out = {
         "motion": motion.name, "imu": base.name, "rate_hz": float(rate),
         "tolerance_m": tolerance,
         "terms": terms,
@@ -128,6 +140,9 @@ def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
         "presets": presets,
         "warnings": cov.warnings,
     }
+    if alignment == "level":           # the truth start, the default, adds nothing
+        out["alignment"] = {"method": "level", "window_s": float(align_window)}
+    return out
 
 
 def format_design(r: dict) -> str:
@@ -147,6 +162,9 @@ def format_design(r: dict) -> str:
     lines = [f"Design for motion {r['motion']} at {r['rate_hz']:g} Hz, tolerance "
              f"{r['tolerance_m']:g} m (95th percentile of the position error, whole motion), "
              f"from IMU {r['imu']}:"]
+    if r.get("alignment"):
+        lines.append(f"  Initial attitude levelled from the accelerometer at rest over "
+                     f"{r['alignment']['window_s']:g} s before the motion (heading given).")
     lines.append("  Largest value of each term that alone stays within the tolerance:")
     for k, v in sorted(r["terms"].items()):
         lines.append(f"    {k:24s} {v['limit']:>22s}   (this IMU: {v['base']})")

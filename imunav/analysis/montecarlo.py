@@ -9,8 +9,15 @@ bar; with ``scheduler=ADDRESS`` they are sent to a Dask cluster (``imunav[dask]`
 runs with one BLAS thread unless the caller chose otherwise (:mod:`imunav.core.threads`; on a
 Dask worker, its own ``IMUNAV_BLAS_THREADS`` or ``set_blas_threads``).
 
+With ``alignment="level"`` every run starts from its own levelled attitude: the IMU rests at
+the motion's initial attitude for ``align_window`` seconds before ``t = 0`` (the ideal signals
+of rest are prepended, so each run's errors run on from the window into the motion), and roll and
+pitch come from that run's mean measured specific force over the window
+(:func:`imunav.strapdown.alignment.level_attitude`, the heading given) — what
+:mod:`imunav.estimation.alignment` models in the covariance analysis.
+
 May import: ``imunav.core``, ``imunav.earth``, ``imunav.motion``, ``imunav.sensors``,
-``imunav.strapdown``.
+``imunav.strapdown``, ``imunav.estimation``.
 """
 
 from __future__ import annotations
@@ -21,13 +28,15 @@ import numpy as np
 
 from imunav.core.constants import G0
 from imunav.core.resources import check_memory
-from imunav.core.rotations import FloatArray
+from imunav.core.rotations import FloatArray, quat_to_dcm, quat_to_euler
 from imunav.core.threads import limit_blas
 from imunav.core.validation import ImunavError, check_int, check_positive
 from imunav.earth import ned_difference
+from imunav.estimation.alignment import WINDOW, check_alignment, window_samples
 from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import ImuModel, measure
 from imunav.sensors.simulate import interval_count, simulate_imu
+from imunav.strapdown.alignment import level_attitude
 from imunav.strapdown.registry import navigate_batch
 
 
@@ -68,6 +77,7 @@ class MonteCarloResult:
     rate: float
     kind: str
     horizontal: FloatArray | None = None   # on the Earth: |Δr| north–east (m)
+    alignment: str = "truth"
 
     @property
     def runs(self) -> int:
@@ -122,6 +132,11 @@ class MonteCarloTask:
     vertical : {"free", "hold"}
         On the Earth: the vertical channel free, or held at the true height and vertical
         velocity (a perfect height aid).
+    align : int
+        Output samples of rest before the motion that each run levels from (0: every run
+        starts from the true attitude); ``gyro``/``accel`` then begin with their ideal signals.
+    yaw0 : float
+        The heading the levelling is given (rad).
     """
 
     gyro: FloatArray
@@ -138,6 +153,8 @@ class MonteCarloTask:
     algorithm: str | None = None
     earth: str = "flat"
     vertical: str = "free"
+    align: int = 0
+    yaw0: float = 0.0
 
     def hold(self, t: FloatArray) -> tuple[FloatArray, FloatArray]:
         """The true heights and down velocities at the state times ``t`` (the perfect height
@@ -149,10 +166,15 @@ class MonteCarloTask:
 @limit_blas
 def _mc_chunk(task: MonteCarloTask, seeds) -> tuple:
     """One chunk of runs (module-level and picklable: a Dask task)."""
-    G, A, S = [], [], []
+    G, A, S, Q0 = [], [], [], []
+    n = task.align
     for ss in seeds:
         gm, am, flags = measure(task.model, task.gyro, task.accel, task.kind, task.sim_rate,
                                 np.random.default_rng(ss), task.decimate)
+        if n:                   # level from this run's window, then navigate what follows
+            f = am[:n].mean(axis=0) * (task.rate if task.kind == "increments" else 1.0)
+            Q0.append(level_attitude(f, task.g, tol=0.5, yaw=task.yaw0))
+            gm, am = gm[n:], am[n:]
         G.append(gm)
         A.append(am)
         S.append(int(flags.sum()))
@@ -160,7 +182,8 @@ def _mc_chunk(task: MonteCarloTask, seeds) -> tuple:
     # strided one (the navigation copies its stencil windows contiguous anyway)
     G = np.stack(G).transpose(1, 0, 2)
     A = np.stack(A).transpose(1, 0, 2)
-    q, v, p = navigate_batch(task.kind, G, A, task.rate, task.truth_q[0], task.truth_v[0],
+    q0 = np.array(Q0) if n else task.truth_q[0]
+    q, v, p = navigate_batch(task.kind, G, A, task.rate, q0, task.truth_v[0],
                              task.truth_p[0], task.g, algorithm=task.algorithm, earth=task.earth,
                              hold=task.hold if task.vertical == "hold" else None)
     truth_p, hor = task.truth_p, None
@@ -210,7 +233,8 @@ def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: floa
                 runs: int = 100, seed: int = 0, output: str = "increments", g: float = G0,
                 chunk: int | None = None, progress: bool = True,
                 scheduler: str | None = None, algorithm: str | None = None,
-                vertical: str = "free") -> MonteCarloResult:
+                vertical: str = "free", *, alignment: str = "truth",
+                align_window: float = WINDOW) -> MonteCarloResult:
     """Simulate a sensor on a motion many times with independent errors and navigate each run
     back from the true initial state.
 
@@ -246,6 +270,12 @@ def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: floa
     vertical : {"free", "hold"}, default "free"
         On the WGS-84 Earth: hold each run's vertical channel at the true height (a perfect
         height aid).
+    alignment : {"truth", "level"}, default "truth"
+        The initial attitude of each run: the truth, or levelled from the run's own
+        accelerometer output at rest over ``align_window`` seconds before the motion
+        (:mod:`imunav.estimation.alignment`; flat frame only; the heading is given).
+    align_window : float, default WINDOW
+        The levelling window (s), > 0.
 
     Returns
     -------
@@ -259,6 +289,8 @@ def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: floa
         the runs would not fit in memory; ``scheduler`` is given without dask installed; or
         for the reasons of the simulation and the navigation (an unknown ``output`` or
         ``algorithm``, …).
+        Also if ``alignment`` is not ``"truth"`` or ``"level"``, ``align_window`` is not
+        a finite number > 0, or ``"level"`` is asked on the WGS-84 Earth.
 
     Examples
     --------
@@ -283,12 +315,15 @@ def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: floa
     rate = check_positive(rate, "rate")
     runs = check_int(runs, "runs", 1)
     seed = check_int(seed, "seed", 0)
+    alignment, align_window = check_alignment(alignment, align_window, motion.frame)
     duration = span(motion, rate, duration)
     k = model.decimation(rate)
     n = interval_count(rate, duration)
+    n_align = window_samples(rate, align_window) if alignment == "level" else 0
     chunk = chunk or max(1, min(runs, int(2e6 // max(n, 1))))
     # ideal signals at the internal rate, the per-run histories, one chunk's working set
-    need = 8 * (6 * (n * k + 1) + 3 * runs * (n + 1) + 40 * chunk * (n + 1) * min(k, 4))
+    need = 8 * (6 * ((n + n_align) * k + 1) + 3 * runs * (n + 1)
+                + 40 * chunk * (n + n_align + 1) * min(k, 4))
     check_memory(need, f"{runs:,} Monte Carlo runs of {n:,} samples (internal rate "
                        f"{rate * k:g} Hz)")
     sim = simulate_imu(motion, rate * k, duration, output=output, g=g)
@@ -297,8 +332,16 @@ def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: floa
     truth_q, truth_v, truth_p = motion.attitude(t), motion.velocity(t), motion.position(t)
     seeds = np.random.SeedSequence(seed).spawn(runs)
     parts = [seeds[i:i + chunk] for i in range(0, runs, chunk)]
-    task = MonteCarloTask(sim.gyro, sim.accel, output, rate * k, k, model, rate, g, truth_q,
-                          truth_v, truth_p, algorithm, motion.frame, vertical)
+    gyro, accel, yaw0 = sim.gyro, sim.accel, 0.0
+    if n_align:                 # the ideal signals of rest at the initial attitude come first
+        rest = quat_to_dcm(truth_q[0]).T @ np.array([0.0, 0.0, -g])
+        if output == "increments":
+            rest = rest / (rate * k)
+        gyro = np.concatenate([np.zeros((n_align * k, 3)), gyro])
+        accel = np.concatenate([np.tile(rest, (n_align * k, 1)), accel])
+        yaw0 = float(quat_to_euler(truth_q[0])[0])
+    task = MonteCarloTask(gyro, accel, output, rate * k, k, model, rate, g, truth_q,
+                          truth_v, truth_p, algorithm, motion.frame, vertical, n_align, yaw0)
     if scheduler:
         try:
             from dask.distributed import Client
@@ -319,7 +362,7 @@ def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: floa
             bar.close()
     pos, vel, att, sat = (np.concatenate([r[i] for r in results]) for i in range(4))
     hor = None if results[0][4] is None else np.concatenate([r[4] for r in results])
-    return MonteCarloResult(t, pos, vel, att, sat, model.name, rate, output, hor)
+    return MonteCarloResult(t, pos, vel, att, sat, model.name, rate, output, hor, alignment)
 
 
 def _progress(n_chunks: int, work: int, enabled: bool):

@@ -95,7 +95,7 @@ def _things() -> dict[str, Thing]:
              "bias_instability": ("bias instability", "#008856"),
              "random_walk": ("random walk", "#875692"),
              "scale_factor": ("scale factor", "#F6A600"),
-             "misalignment": ("misalignment", "#882D17"),
+             "misalignment": ("misalignment", "#604E97"),   # violet: not the bias crimson, not black
              "g_sensitivity": ("g-sensitivity", "#E68FAC"),
              "resolution": ("resolution (quantisation)", "#848482"),
              "bandwidth": ("anti-alias filter", "#56B4E9"), "range": ("range (clipping)", "#654522")}

@@ -494,12 +494,13 @@ def propagate(sources: list[ErrorSource], traj: Trajectory, model: FlatErrorMode
     -------
     list of ndarray, shape (N + 1, 9, 9)
         Per source, at ``t_0 … t_N`` (the first is the initial covariance of the navigation
-        errors, zero).
+        errors: zero, or the levelled attitude's of
+        :class:`~imunav.estimation.alignment.LevelledSource`).
     """
     N = traj.steps
     hist = [np.empty((N + 1, NAV, NAV)) for _ in sources]
-    for h in hist:
-        h[0] = 0.0
+    for h, s in zip(hist, sources, strict=True):
+        h[0] = s.initial_covariance()[:NAV, :NAV]        # zero, unless levelled
     for lo, hi, covs in propagate_chunks(sources, traj, model, chunk):
         for h, c in zip(hist, covs, strict=True):
             h[lo + 1:hi + 1] = c

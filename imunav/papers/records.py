@@ -20,8 +20,11 @@ The verdict rule (:data:`VERDICTS`; the same text is in the README):
     A paper *conclusion* (a ranking, a sign, "not zero", "exact"): the computation reaches
     the same conclusion.
 ``consistent with bound``
-    The paper's value is an upper bound ("< 3°"), not a measurement: imunav's value is below
-    it. A bound is not reproduced by a number below it; :func:`judge_bound`.
+    The paper's value is an upper bound, not a measurement, on a quantity imunav computes for
+    the same case: imunav's value is below it. A bound is not reproduced by a number below
+    it; :func:`judge_bound`. A bound on the paper's own unpublished data (Dickson & Rae's
+    "< 3°" on their event) is ``not reproducible``: a synthetic event meets or breaks it as
+    its design decides.
 ``differs``
     Outside the tolerance, or the computation reverses the conclusion.
 ``not reproducible``

@@ -18,6 +18,9 @@ Findings (each computed by a function here and shown in notebook 02):
    secular term (:func:`seeming_turn_closed_form`), as the paper states.
 5. Eq. (5) differentiated in time (:func:`omega_rate_lambdified`) gives the ω̇ that Euler's
    dynamic equations need, to ask whether (3) and (5) solve them without a torque.
+6. Miller's formula (2) matches the exact rotation vector's leading non-commutativity term
+   (h³ a×b for ω = a + b t + c t²) only when α + β = 90/80 — the line all three of the
+   paper's coefficient sets lie on (:func:`miller_leading_term`).
 
 May import: nothing from imunav but ``imunav.symbolic``.
 """
@@ -201,3 +204,38 @@ def omega_rate_lambdified():
     sub0 = dict(zip(ANGLES, a, strict=True))
     exprs = [sp.diff(e, t).subs(sub2).subs(sub1).subs(sub0) for e in printed_eq5()]
     return sp.lambdify(a + r + acc, exprs, "numpy")
+
+
+def miller_leading_term(order: int = 3) -> dict:
+    """Why the paper's sets lie on α + β = 90/80: Miller's rotation vector (2) against the exact
+    one, term by term in the step h, for an angular velocity ω(t) = a + b t + c t² (vectors).
+
+    The exact rotation vector over [0, h] is ∫ω dt + ½∫θ×ω dt + O(h⁴) (Bortz's equation; the
+    φ×(φ×ω) term starts at h⁴), θ(t) = ∫₀ᵗ ω; Miller's (2) uses the three sub-interval
+    increments θ¹, θ², θ³. Their difference, expanded to ``order`` in h, is a multiple of
+    a × b at h³: (2/27)(α + β) − 1/12, which vanishes only for α + β = 9/8 = 90/80. Returns the
+    coefficient of h³ a×b (as a SymPy expression in α, β), the solution of it = 0 for α + β,
+    whether the whole h³ term of the difference is that multiple of a×b, and whether the
+    terms below h³ vanish (for every α, β)."""
+    h, tau, al, be = sp.symbols("h tau alpha beta", real=True)
+    a = sp.Matrix(sp.symbols("a1:4", real=True))
+    b = sp.Matrix(sp.symbols("b1:4", real=True))
+    c = sp.Matrix(sp.symbols("c1:4", real=True))
+    w = a + b * tau + c * tau**2
+
+    def theta(lo, hi):
+        return w.applyfunc(lambda e: sp.integrate(e, (tau, lo, hi)))
+
+    th = theta(0, tau)
+    exact = theta(0, h) + (th.cross(w) / 2).applyfunc(lambda e: sp.integrate(e, (tau, 0, h)))
+    t1, t2, t3 = theta(0, h / 3), theta(h / 3, 2 * h / 3), theta(2 * h / 3, h)
+    miller = t1 + t2 + t3 + al * t1.cross(t3) + be * t2.cross(t3 - t1)
+    diff = (miller - exact).applyfunc(sp.expand)
+    h3 = diff.applyfunc(lambda e: e.coeff(h, order))
+    axb = a.cross(b)
+    coef = sp.simplify(h3[0] / axb[0])
+    ok = all(sp.expand(h3[i] - coef * axb[i]) == 0 for i in range(3))
+    lower = all(e.coeff(h, k) == 0 for e in diff for k in range(order))
+    s = sp.Symbol("s")
+    return {"coefficient": sp.nsimplify(coef), "alpha_plus_beta": sp.solve(
+        coef.subs(be, s - al), s), "only_a_cross_b": ok, "lower_orders_vanish": lower}

@@ -13,26 +13,35 @@
 # - the first-order quaternion update $\hat Q_k = \hat Q_{k-1} + \Delta t\,\tfrac12\hat
 #   Q_{k-1}\otimes S_\omega$ in a dozen lines of Python, and why it must be normalised;
 # - how far it is from the exact rotation, and how that error shrinks with the step;
-# - what a gyroscope measures — settled on real hardware, not by a simulator's definition —
-#   and what "drift" looks like when a real gyro is integrated alone.
+# - what a gyroscope measures — settled by the units its data are in, and checked on real
+#   hardware — and what "drift" is: the angle an integrated gyro turns by while the body
+#   does not, measured on a still stretch of a real recording and on a simulated gyro.
 #
 # **What you should know first:** what a unit quaternion is and how $q\otimes v\otimes q^*$
 # rotates a vector; a little NumPy. Nothing else.
 #
 # **Scope.** The tutorial's example is a pure rotation in its own frame: no gravity, no
-# Earth rotation, no aiding. The real recordings of §4 are short, on a bench: over them the
-# Earth's rotation is far below the gyros' own errors.
+# Earth rotation, no aiding. The real recording of §4 is short, on a bench: over it the
+# Earth's rotation is far below the gyro's own errors.
 #
 # **Conventions.** The tutorial's own (rad, rad/s, s; its x, y, z); angles are printed in
 # degrees where it helps and say so. Computation: `imunav.papers.tutorial`; the loop itself is
 # written out in §1 and checked against it.
 
 # %% [markdown]
-# ## Coverage: everything the tutorial states, and where it is settled
+# ## The tutorial in brief, and what this notebook finds
 #
-# One row per record of the ledger `figures/reproduction.json`, rendered from it (the verdict
-# rule: `imunav.papers.records`). The schedule's durations are counted from the loop exactly,
-# so they need no tolerance.
+# - **What it does.** It integrates constant gyro rates with the first-order quaternion
+#   update, normalises, and draws a rotated point. The code does what it says, and §1 writes
+#   it out line for line.
+# - **What holds.** Normalising is needed (§3); the update's error against the exact rotation
+#   falls with the step, second order here (§2); a gyro integrated alone drifts (§4).
+# - **What does not.** The text says the example runs 50 s, 25 s about each axis; the loop runs
+#   fewer steps than its comments say (§1). And its first sentence — a gyroscope "measures the
+#   angular acceleration" — is wrong: it measures angular velocity (§4).
+#
+# Every statement with its record in the ledger `figures/reproduction.json` and its verdict is
+# tabulated in §6, at the end.
 
 # %%
 import matplotlib.pyplot as plt
@@ -58,9 +67,6 @@ def say(text):
 def verdict(*ids):
     display(Markdown("\n\n".join(R.verdict_line(i, LEDGER) for i in ids)))
 
-
-# %% tags=["hide-input"]
-display(Markdown(R.coverage_table(T.COVERAGE, LEDGER)))
 
 # %% [markdown]
 # ## 1. The example as written — the whole algorithm
@@ -128,10 +134,20 @@ verdict("tutorial.schedule.total_s", "tutorial.schedule.x_rotation_s",
 # to the body; the reproduction keeps that (tested against his formula):
 
 # %% tags=["hide-input"]
-fig = plt.figure(figsize=(6.5, 3.4), layout="constrained")
-T.plot_run(res, fig.add_subplot(1, 2, 1, projection="3d"), "first-order + normalise\n(as written)")
+fig = plt.figure(figsize=(6.5, 3.7), layout="constrained")
+ax3 = T.plot_run(res, fig.add_subplot(1, 2, 1, projection="3d"), "first-order + normalise\n(as written)")
 T.plot_run(res_exact, fig.add_subplot(1, 2, 2, projection="3d"), "exact rotation")
+fig.legend(*ax3.get_legend_handles_labels(), loc="outside lower center", ncols=4, markerscale=3)
 plt.show()
+
+# %%
+P_gap = np.linalg.norm(res.P - res_exact.P, axis=1)
+say(f"The key: the black dots are the point P = (1, 2, 3), the red, green and blue dots three "
+    f"markers one unit from it along its x, y and z axes, joined to it every third step. The two "
+    f"panels look the same because they nearly are: the first-order attitude ends "
+    f"{np.degrees(quat_angle(Q_fo[-1], Q_ex[-1])):.2f}° from the exact one, which moves P by at "
+    f"most {P_gap.max():.3f} (P is {np.linalg.norm(T.P0):.2f} from the origin) — less than a dot "
+    f"at this scale. §2 plots the difference itself.")
 
 # %% [markdown]
 # ## 2. How far is the first-order update from the truth?
@@ -162,6 +178,39 @@ plt.show()
 # is constant within each phase). With a rate that changes direction continuously, the coning
 # error adds to it (notebook 06).
 #
+# **Why is the "first-order" update second order here, and first order in notebook 00?**
+# "First order" names the update: it keeps the first power of Δt of the exponential
+# $\exp(\tfrac12\omega\Delta t)$. Its accuracy order also depends on what the rate does
+# within a step. Here the rate is *constant over each step* (the tutorial's $S_\omega$ is
+# piecewise constant), so the only error is the update's own per-step deficit
+# $\propto\Delta t^3$: $\Delta t^2$ in all. In notebook 00 the update is fed *samples* of a
+# rate that varies within the step: using $\omega(t_k)$ for the whole step (a left-point rule)
+# misses $\tfrac12\dot\omega\,\Delta t^2$ per step, $\Delta t$ in all — whatever the update,
+# even the exact rotation by $\omega(t_k)\Delta t$. About a fixed axis, with the tutorial's
+# rate made to vary, $\omega(t) = r\,(1 + \tfrac12\sin t)$, and the true angle
+# $r\,(t + \tfrac12(1-\cos t))$ in closed form:
+
+# %%
+os_ = T.order_with_sampled_rate()
+for key, label in (("constant_first_order", "first-order + normalise, rate constant over the step"),
+                   ("sampled_first_order", "first-order + normalise, rate sampled at the step's start"),
+                   ("sampled_exponential", "exact rotation by the sampled rate × dt")):
+    errs_ = ", ".join(f"{e:.1e}" for e in os_[key]["final_error_rad"])
+    print(f"{label:58s}: order {os_[key]['order']:.2f}  (final error, rad: {errs_})")
+print("dt (s):", ", ".join(f"{d:g}" for d in os_["dts"]))
+e_s = os_["sampled_first_order"]["final_error_rad"]
+local = np.log(e_s[-2] / e_s[-1]) / np.log(os_["dts"][-2] / os_["dts"][-1])
+print(f"sampled first-order, order between the two smallest steps: {local:.2f}")
+
+# %%
+say(f"With the rate constant over each step the first-order update converges at order "
+    f"{os_['constant_first_order']['order']:.2f}; fed the samples of a varying rate, at order "
+    f"{os_['sampled_first_order']['order']:.2f} over these steps ({local:.2f} between the two "
+    f"smallest: the update's own Δt² part fades, the sampling's Δt stays) — and the exact rotation of the same samples at "
+    f"{os_['sampled_exponential']['order']:.2f}: the first order comes from sampling the rate, not "
+    f"from the update. Notebook 00's rate samples are the second case.")
+
+# %% [markdown]
 # ## 3. Without the normalisation line
 # $\hat Q\otimes S_\omega$ is orthogonal to $\hat Q$, so each step multiplies the norm by
 # exactly $\sqrt{1+(\lvert\omega\rvert\Delta t/2)^2}$; the direction is the same as with
@@ -193,53 +242,101 @@ plt.show()
 # ## 4. What a gyroscope measures, and drift
 # **"A gyroscope measures the angular acceleration … by integrating twice …"** The tutorial
 # opens with that claim, then assumes velocities "to avoid a double integration". A simulator
-# cannot settle what a gyroscope measures (it would only return its own definition), so we use
-# real hardware: the x-IMU3 recording shipped with imunav, whose onboard fusion (gyro *and*
-# accelerometer) gives the device's own orientation. Over half-second windows, integrate the
-# gyro output once (as an angular velocity) and twice (as an angular acceleration) and compare
-# each with the rotation the device reports:
+# cannot settle what a gyroscope measures (it would only return its own definition), and
+# comparing a once- with a twice-integrated signal would compare an angle with an angle times
+# a second. The units settle it. A gyro's data sheet and its data state the unit of its
+# output; the two recordings shipped with imunav (the manufacturer's own export) head their
+# gyro columns:
+
+# %%
+for dev, cols in T.gyro_units_real().items():
+    print(f"{dev:6s}: {', '.join(cols)}")
+
+# %% [markdown]
+# Degrees per second is an angular *velocity*: integrated once over time it is an angle —
+# exactly what the tutorial's own code does. An angular acceleration would be in deg/s² and
+# would need two integrations. The data agree with their unit: over half-second windows of the
+# x-IMU3 recording, the gyro integrated once follows the rotation the device's own orientation
+# (its onboard fusion, which also uses the accelerometer) reports:
 
 # %%
 real = T.gyro_is_rate_real()
 print(f"{real['windows']} windows of {real['window_s']} s; the device turns by "
       f"{real['device_turn_deg']:.0f}° (median)")
-print(f"gyro integrated once  (rate):         median error {real['as_rate_error_deg']:.1f}°")
-print(f"gyro integrated twice (acceleration): median error {real['as_acceleration_error_deg']:.1f}°")
+print(f"gyro integrated once, as deg/s: median error {real['as_rate_error_deg']:.1f}°")
 verdict("tutorial.claim.gyro_measures_angular_acceleration")
 
 # %% [markdown]
-# Read as a rate, the gyro follows the device within a few degrees; read as an acceleration it
-# misses by most of the rotation. A gyroscope measures angular *velocity* (rad/s), and
-# orientation follows from a *single* integration — as the tutorial's own code does.
-#
 # **"It don't work properly in practice due to the cumulated errors, this phenomena is called
-# drift."** On the longer x-IMU recording, the gyro integrated alone from the device's own
-# orientation, compared with that orientation at the end of windows of growing length:
+# drift."** Drift is what an integrated gyro turns by while the body does not. Measuring it
+# needs a truth that does not itself come from the gyro: the x-IMU's fused orientation does not
+# qualify (it blends gyro, accelerometer and magnetometer; notebook 07), but *stillness* does —
+# a body at rest keeps its attitude. Two measurements:
+#
+# - **Real.** The x-IMU3 recording starts with the device at rest (its first still stretch:
+#   small gyro spread, |f| close to g). Integrate the raw gyro alone over it.
+# - **Simulated.** A still body, a gyro with data-sheet errors (the BMI088 preset's turn-on
+#   offset and rate noise density), a hundred seeds: once as shipped, once with the offset
+#   calibrated out, to see each error's own growth.
 
 # %%
-dr = T.drift_real()
-for w, e in zip(dr["windows_s"], dr["median_error_deg"], strict=True):
-    print(f"window {w:5.1f} s: median error {e:5.1f}°")
-print(f"growth ∝ window^{dr['growth_exponent']:.2f} (x-IMU, {dr['duration_s']:.0f} s at "
-      f"{dr['rate_hz']:.0f} Hz, raw gyro)")
+still = T.drift_still_real()
+print(f"x-IMU3, still for {still['duration_s']:.2f} s (mean |f| = {still['accel_over_g']:.4f} g): "
+      f"the integrated gyro turns by {still['final_deg']:.3f}° (at most {still['max_deg']:.3f}°)")
+print(f"its mean rate over the stretch (a bias): {still['bias_deg_s']:.3f}°/s; the device's fused "
+      f"orientation moves {still['device_change_deg']:.2f}° meanwhile")
+sim = T.drift_simulated()
+print(f"simulated gyro {sim['gyro']}, median of {sim['runs']} seeds at {sim['rate_hz']:g} Hz:")
+print(f"{'t (s)':>6s}  {'as shipped (°)':>14s}  {'offset removed (°)':>18s}")
+for t_, a_, b_ in zip(sim["times_s"], sim["as_shipped"]["median_deg"],
+                      sim["bias_removed"]["median_deg"], strict=True):
+    print(f"{t_:6g}  {a_:14.3f}  {b_:18.4f}")
+print(f"growth ∝ t^p: p = {sim['as_shipped']['exponent']:.2f} as shipped, "
+      f"{sim['bias_removed']['exponent']:.2f} with the offset removed")
 verdict("tutorial.claim.drift")
 
 # %% tags=["hide-input"]
-fig, ax = figure(1, 1, width=4.6, height=3.0)
-ax.loglog(dr["windows_s"], dr["median_error_deg"], "o-", color="#E25822",
-          label="gyro alone vs the device")
-ax.set(xlabel="integration window (s)", ylabel="median angle error (°)",
-       title="a real gyro integrated alone drifts")
-ax.set_xticks(dr["windows_s"], [f"{w:g}" for w in dr["windows_s"]])
-ax.minorticks_off()
-ax.legend(loc="upper left")
+fig, axs = figure(1, 2, height=3.1)
+c_ship, c_noise = "#E25822", "#0067A5"
+axs[0].plot(still["t"], still["angle_deg"], color=c_ship, label="gyro integrated alone")
+axs[0].plot(still["t"], still["bias_deg_s"] * still["t"], "k:", lw=1, label="mean rate × t")
+axs[0].set(xlabel="t (s)", ylabel="angle turned (°)", title="x-IMU3 at rest (real)")
+axs[0].legend(loc="upper left")
+ts = np.asarray(sim["times_s"])
+for key, col, lab in (("as_shipped", c_ship, "as shipped"), ("bias_removed", c_noise,
+                                                              "offset removed")):
+    axs[1].loglog(ts, sim[key]["median_deg"], "o-", color=col,
+                  label=f"{lab}: ∝ t^{sim[key]['exponent']:.2f}")
+for p_, key, ls in ((1.0, "as_shipped", "--"), (0.5, "bias_removed", ":")):
+    ref = 3 * sim[key]["median_deg"][0] * (ts / ts[0]) ** p_      # 3× above: off the curve
+    axs[1].loglog(ts, ref, color="k", ls=ls, lw=1, label=f"guide ∝ t^{p_:g} (×3 above)")
+axs[1].set_xticks(ts, [f"{t_:g}" for t_ in ts])
+dec = 10.0 ** np.arange(-2, 5)
+axs[1].set_yticks(dec, [f"{d:g}" for d in dec])
+axs[1].minorticks_off()
+axs[1].set(xlabel="t (s)", ylabel="median drift (°)", title="still body, simulated gyro",
+           ylim=(0.01, 3e4))                               # room above the curves for the key
+axs[1].legend(loc="upper left")
 plt.show()
 
+# %%
+say(f"At rest the real gyro turns by {still['final_deg']:.3f}° in {still['duration_s']:.2f} s, "
+    f"following its mean rate × t: a bias of {still['bias_deg_s']:.3f}°/s, which integrated alone "
+    f"would reach {60 * still['bias_deg_s']:.1f}° in a minute. Meanwhile the fused orientation "
+    f"moves {still['device_change_deg']:.2f}°, more than the gyro — one more reason it is no "
+    f"gyro-only reference. Simulated, the drift as shipped grows as "
+    f"t^{sim['as_shipped']['exponent']:.2f} — the turn-on offset b integrated, b·t — and reaches "
+    f"{sim['as_shipped']['median_deg'][-1]:.0f}° after {sim['times_s'][-1]:g} s; with the offset "
+    f"removed, as t^{sim['bias_removed']['exponent']:.2f} — white rate noise of density N "
+    f"integrated, the angle random walk N√t — and reaches {sim['bias_removed']['median_deg'][-1]:.2f}°.")
+
 # %% [markdown]
-# The drift grows steadily with the time integrated, without bound: nothing in the gyro's own
-# signal can tell its errors from a real turn (notebook 07 removes the gyro's bias from a
-# still stretch and measures what is left). It is the reason every real system aids the gyro
-# with something absolute — gravity, a magnetometer, GNSS.
+# The drift grows with the time integrated, without bound, and nothing in the gyro's own
+# signal can tell its errors from a real turn: calibrating the offset out slows it, from ∝ t
+# to ∝ √t, but does not stop it (notebook 07 removes a real gyro's bias from a still stretch
+# and measures what is left; notebook 05 teaches the Allan variance that separates the two
+# terms). It is the reason every real system aids the gyro with something absolute — gravity,
+# a magnetometer, GNSS.
 #
 # ## 5. Explore: the step
 # The widget below (in a live kernel) sets the step, the two rates and the update. A reader of
@@ -289,19 +386,16 @@ _ = interact(explore,
                              description="update"))
 
 # %% [markdown]
-# ### Checks: this notebook's numbers are the ledger's
+# ## 6. Every statement and its verdict
+#
+# One row per record of the ledger `figures/reproduction.json` (written by
+# `imunav reproduce`), rendered from it — never typed by hand: the tutorial's value, imunav's,
+# the record's id and its verdict. The verdict rule is written once, in
+# `imunav.papers.records`. The schedule's durations are counted from the loop exactly, so they
+# need no tolerance.
 
-# %%
-print(f"{np.degrees(err[-1]):.3f}")
-assert np.abs(Q_fo - res.Q).max() < 1e-12 and np.abs(Q_ex - res_exact.Q).max() < 1e-12
-assert np.isclose(LEDGER["tutorial.final_angle_error_first_order_deg"]["imunav"],
-                  np.degrees(err[-1]), rtol=1e-9)
-assert np.isclose(LEDGER["tutorial.update_order_in_dt"]["imunav"], order, rtol=1e-9)
-assert np.isclose(LEDGER["tutorial.claim.drift"]["imunav"], dr["median_error_deg"][-1], rtol=1e-9)
-assert (sch["x_s"], sch["y_s"]) == (LEDGER["tutorial.schedule.x_rotation_s"]["imunav"],
-                                    LEDGER["tutorial.schedule.y_rotation_s"]["imunav"])
-assert abs(un["final_norm"] / un["closed_form_norm"] - 1) < 1e-12
-assert real["as_acceleration_error_deg"] > 5 * real["as_rate_error_deg"]
+# %% tags=["hide-input"]
+display(Markdown(R.coverage_table(T.COVERAGE, LEDGER)))
 
 # %% [markdown]
 # ## Takeaways
@@ -310,8 +404,11 @@ assert real["as_acceleration_error_deg"] > 5 * real["as_rate_error_deg"]
 #   and without normalisation everything downstream that assumes a unit quaternion goes wrong.
 # - Against the exact rotation its error is second order in the step for a rate of fixed
 #   direction: halving the step quarters it.
-# - A gyroscope measures angular velocity: integrated once it follows a real device, integrated
-#   twice it does not. Integrated alone it drifts, steadily, with time — why real systems aid it.
+# - "First order" names the update, not its accuracy: with the rate constant over each step it
+#   converges at order 2; fed samples of a varying rate, at order 1, whatever the update.
+# - A gyroscope measures angular velocity: its data are in deg/s, and integrated once they
+#   follow a real device. Integrated alone it drifts even at rest — as t from a bias, as √t
+#   from white noise — which is why real systems aid it.
 # - Count the loop, not the comments: the example runs 99 steps, not 100.
 #
 # ## Exercises
@@ -350,11 +447,40 @@ assert abs(quat_angle(fo, ex) - err[-1]) < 1e-12 and deficits > 1.05 * err[-1]
 
 # %% [markdown]
 # **Exercise 3.** Without normalisation, how large would the norm be after the example with
-# dt = 0.05 s (same 49.5 s)? Use the closed form, then check with `T.unnormalised`.
+# dt = 0.05 s (same 49.5 s, about X for the first 24 s)? First derive the loop's `steps` (its
+# last `i`) and `switch` (about X while `i < switch`) for that step — the example's are 100 and
+# 50 — then use the closed form, and check with `T.unnormalised`.
 
 # %% tags=["hide-cell"] jupyter={"source_hidden": true, "outputs_hidden": true}
 # Solution
-u = T.unnormalised(dt=0.05, steps=991, switch=482)
-closed = np.sqrt(1 + (np.pi / 8 * 0.05 / 2) ** 2) ** 480 * np.sqrt(1 + (np.pi / 16 * 0.05 / 2) ** 2) ** 510
+dt3 = 0.05
+steps3 = int(round(49.5 / dt3)) + 1       # the loop runs i = 2..steps: 49.5 s of dt3 steps
+switch3 = int(round(24.0 / dt3)) + 2      # about X while i < switch: the first 24 s
+sch3 = T.schedule(dt3, steps3, switch3)
+print(f"steps = {steps3}, switch = {switch3}: {sch3['x_steps']} steps about X ({sch3['x_s']:g} s) "
+      f"+ {sch3['y_steps']} about Y ({sch3['y_s']:g} s) = {sch3['total_s']:g} s")
+u = T.unnormalised(dt=dt3, steps=steps3, switch=switch3)
+closed = (np.sqrt(1 + (np.pi / 8 * dt3 / 2) ** 2) ** sch3["x_steps"]
+          * np.sqrt(1 + (np.pi / 16 * dt3 / 2) ** 2) ** sch3["y_steps"])
 print(f"|Q| = {u['final_norm']:.6f}, closed form {closed:.6f}")
+assert (sch3["x_s"], sch3["y_s"]) == (24.0, 25.5)
 assert abs(u["final_norm"] / closed - 1) < 1e-12
+
+
+# %% tags=["hide-cell"] jupyter={"source_hidden": true}
+# Checks (run by the tests, not part of the lesson): this notebook's numbers are the ledger's,
+# which `imunav reproduce` wrote; they fail if the two have drifted apart.
+print(f"{np.degrees(err[-1]):.3f}")
+assert np.abs(Q_fo - res.Q).max() < 1e-12 and np.abs(Q_ex - res_exact.Q).max() < 1e-12
+assert np.isclose(LEDGER["tutorial.final_angle_error_first_order_deg"]["imunav"],
+                  np.degrees(err[-1]), rtol=1e-9)
+assert np.isclose(LEDGER["tutorial.update_order_in_dt"]["imunav"], order, rtol=1e-9)
+assert np.isclose(LEDGER["tutorial.claim.drift"]["imunav"], still["final_deg"], rtol=1e-9)
+assert np.isclose(LEDGER["tutorial.claim.gyro_measures_angular_acceleration"]["imunav"],
+                  real["as_rate_error_deg"], rtol=1e-9)
+assert (sch["x_s"], sch["y_s"]) == (LEDGER["tutorial.schedule.x_rotation_s"]["imunav"],
+                                    LEDGER["tutorial.schedule.y_rotation_s"]["imunav"])
+assert abs(un["final_norm"] / un["closed_form_norm"] - 1) < 1e-12
+assert real["as_rate_error_deg"] < 0.15 * real["device_turn_deg"]
+assert 0.9 < sim["as_shipped"]["exponent"] < 1.1 and 0.4 < sim["bias_removed"]["exponent"] < 0.6
+assert 1.9 < os_["constant_first_order"]["order"] < 2.1 and os_["sampled_exponential"]["order"] < 1.1

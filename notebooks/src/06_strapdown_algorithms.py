@@ -31,7 +31,7 @@ from ipywidgets import Dropdown, FloatLogSlider, FloatSlider, interact
 import imunav
 from imunav import navigate, plotting, simulate_imu
 from imunav.analysis import family as F
-from imunav.analysis.roundtrip import initial_state
+from imunav.analysis.roundtrip import initial_state, round_trip
 from imunav.core.rotations import quat_angle, quat_exp, quat_mul, quat_rotate
 from imunav.motion import catalog as B
 from imunav.plotting import name
@@ -40,6 +40,18 @@ plotting.use_book_style()
 SEED = 0  # nothing here is random
 OMEGA_EARTH = 7.292115e-5   # rad/s (WGS-84): what a rotating-Earth update would remove
 print(f"Earth rotation, not modelled here: {np.degrees(OMEGA_EARTH) * 3600:.2f} °/h")
+
+
+def family_table(rows):
+    """The rows of F.run_family as a table, algorithms named in words."""
+    out = [f"{'algorithm':34s} {'ord':>3s} {'causal':>6s} {'max att (deg)':>14s} "
+           f"{'final att (deg)':>15s} {'max vel (m/s)':>13s} {'max pos (m)':>11s}"]
+    for r in rows:
+        out.append(f"{name(r['kind'] + '/' + r['algorithm']):34s} {r['order']:3d} "
+                   f"{'yes' if r['causal'] else 'no':>6s} {F.fmt_err(r['max_att_deg'], width=14)} "
+                   f"{F.fmt_err(r['final_att_deg'], width=15)} {F.fmt_err(r['max_vel'], width=13)} "
+                   f"{F.fmt_err(r['max_pos'], width=11)}")
+    return "\n".join(out)
 
 # %% [markdown]
 # ## 1. The family
@@ -132,7 +144,6 @@ print(f"{len(sig)} increments of the 5° cone at 100 Hz; these twenty lines vs t
       f"{name('coning2')}:")
 print(f"  attitude {'<1e-12' if d_att < 1e-12 else f'{d_att:.1e}'} rad, position "
       f"{'<1e-9' if d_pos < 1e-9 else f'{d_pos:.1e}'} m apart")
-assert d_att < 1e-12 and d_pos < 1e-9
 
 # %% [markdown]
 # The library's version is the same algebra on whole arrays (no Python loop), which is why it
@@ -146,13 +157,15 @@ assert d_att < 1e-12 and d_pos < 1e-9
 # %%
 fam100 = F.run_family(cone, 100.0)
 print("100 Hz")
-print(F.format_family(fam100))
+print(family_table(fam100))
 fam400 = F.run_family(cone, 400.0)
 print("400 Hz")
-print(F.format_family(fam400))
+print(family_table(fam400))
 
 # %%
 inc = {r["algorithm"]: r for r in fam100 if r["kind"] == "increments"}
+rt100 = {r["algorithm"]: r for r in fam100 if r["kind"] == "rates"}
+rt400 = {r["algorithm"]: r for r in fam400 if r["kind"] == "rates"}
 causal = [r for r in fam100 if r["causal"] and r["kind"] == "increments"]
 by_max = sorted(causal, key=lambda r: r["max_att_deg"])
 by_final = min(causal, key=lambda r: r["final_att_deg"])
@@ -170,7 +183,15 @@ Markdown(
     f"2, 3 or 4 increments. At those updates **{name(by_final['algorithm'])}** is the most "
     f"accurate: {by_final['final_att_deg']:.1e}° at the end; between them the attitude is the "
     f"second-order product of the increments' exponentials, and its error "
-    f"({by_final['max_att_deg']:.1e}°) is what the maximum shows.")
+    f"({by_final['max_att_deg']:.1e}°) is what the maximum shows.\n"
+    f"- On rate samples the first-order update looks *better* than the second-order mean-rate "
+    f"exponential at 100 Hz ({rt100['first_order']['max_att_deg']:.2f}° against "
+    f"{rt100['exact_exponential']['max_att_deg']:.2f}° at most). Its error is not a steady "
+    f"drift: it swings (it ends at {rt100['first_order']['final_att_deg']:.2f}°), while the "
+    f"exponential's, the missed coning term of §4, accumulates. An order says how fast an error "
+    f"falls with the rate, not which is smaller at one rate: at 400 Hz the ranking has turned "
+    f"({rt400['first_order']['max_att_deg']:.2f}° against "
+    f"{rt400['exact_exponential']['max_att_deg']:.3f}°).")
 
 # %% [markdown]
 # ## 4. Why exact increments plus a coning term beat exponentials of rate samples
@@ -240,11 +261,11 @@ for r in sweep:
     print(f"{r['nodes']:5d} {r['magnus']:6d} {r['substeps']:8d} {r['evals_per_interval']:5d} "
           f"{r['max_att_deg']:14.2e}  {r['max_att_deg'] <= target}")
 
-# %%
-# NBVAL_IGNORE_OUTPUT
-for r in sweep:
-    print(f"{r['nodes']}-node fit, Magnus-{r['magnus']} × {r['substeps']}: "
-          f"{r['seconds'] / 6000 * 1e6:.2f} µs per sample (this machine)")
+# %% [markdown]
+# Cost is counted in rate evaluations per interval, not in seconds: a single timing of a few
+# microseconds per sample on a shared machine mixes in warm-up and other processes' load, and
+# can even rank a larger fit faster than a smaller one. `make bench` measures speed properly,
+# in interleaved rounds against peers.
 
 # %%
 ok = [r for r in sweep if r["max_att_deg"] <= target]
@@ -286,19 +307,25 @@ plt.show()
 
 # %%
 meas = {r["algorithm"]: r["order_att"] for r in conv_inc}
+conv_by = {r["algorithm"]: r for r in conv_inc}
+worst = max(("coning2", *multi), key=lambda a: max(conv_by[a]["max_att_rad"]))
+ratio = [w / c for w, c in zip(conv_by[worst]["max_att_rad"], conv_by["coning2"]["max_att_rad"],
+                               strict=True)]
 Markdown(
-    "On this cone the multi-sample algorithms converge faster than documented — "
-    + ", ".join(f"{name(a)} {meas[a]:.1f}" for a in multi)
-    + f" — and {name('coning2')} at {meas['coning2']:.1f}: their coefficients are designed "
-    "for coning, and on a cone the neglected Bortz term "
-    "$\\tfrac1{12}\\boldsymbol\\phi\\times(\\boldsymbol\\phi\\times\\boldsymbol\\omega)$ largely "
-    "cancels. On general motion (one that translates and turns about all axes, measured in "
-    "`tests/test_strapdown.py`) they fall back to the documented order 3. The polynomial-fit "
-    "and Magnus algorithms show their documented order on both: "
+    "On this cone the multi-sample algorithms converge faster than documented (measured "
+    "order: " + ", ".join(f"{name(a)} {meas[a]:.1f}" for a in multi)
+    + f"; {name('coning2')} {meas['coning2']:.1f}): their coefficients are designed for "
+    "coning. On general motion (one that translates and turns about all axes, measured in "
+    "`tests/test_strapdown.py`) they fall back to the documented order 3. Faster convergence "
+    f"is not a smaller error: the largest *maximum* error of the coning algorithms here is "
+    f"{name(worst)}'s, {min(ratio):.0f}–{max(ratio):.0f} times {name('coning2')}'s over these "
+    "rates, because the maximum is taken at every sample and between its major updates (once per "
+    "four increments) its attitude is only the second-order product of §3. The "
+    "polynomial-fit and Magnus algorithms show their documented order on both (measured order: "
     + ", ".join(f"{name('increments/' + r['algorithm'])} {r['order_att']:.1f}" for r in offline)
     + "; on rate samples "
     + ", ".join(f"{name('rates/' + r['algorithm'])} {r['order_att']:.1f}" for r in conv_rates)
-    + ".")
+    + ").")
 
 # %% [markdown]
 # ## 7. Every benchmark at 100 Hz
@@ -313,7 +340,7 @@ for make in B.BENCHMARKS.values():
     print(f"--- {m.name}")
     for r in rows:
         if r["algorithm"] in five:
-            print(f"{r['kind'] + '/' + r['algorithm']:30s} att {F.fmt_err(r['final_att_deg'])}° "
+            print(f"{name(r['kind'] + '/' + r['algorithm']):34s} att {F.fmt_err(r['final_att_deg'])}° "
                   f"vel {F.fmt_err(r['max_vel'])} m/s  pos {F.fmt_err(r['max_pos'])} m")
 
 # %% [markdown]
@@ -323,11 +350,13 @@ for make in B.BENCHMARKS.values():
 
 # %% tags=["hide-input"]
 names = [("rates", "exact_exponential"), ("rates", "magnus6"), ("increments", "exact_exponential"),
-         ("increments", "coning2"), ("increments", "ignagni4"), ("increments", "poly8_m6")]
+         ("increments", "coning2"), ("increments", "poly8_m6")]
 fig, axs = plotting.figure(2, 1, height=6.6)
 plotting.plot_error_vs_time(cone, 100.0, names, ax=axs[0])
-plotting.plot_error_vs_time(B.sculling(duration=20.0), 100.0, names, ax=axs[1],
-                            quantity="velocity")
+axs[0].set_title(f"{cone.name}, sampled at 100 Hz: attitude")
+scul = B.sculling(duration=20.0)
+plotting.plot_error_vs_time(scul, 100.0, names, ax=axs[1], quantity="velocity")
+axs[1].set_title(f"{scul.name}, sampled at 100 Hz: velocity")
 axs[0].legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
 plt.show()
 
@@ -345,6 +374,28 @@ for ax, beta in zip(axs.flat, (1.0, 5.0, 15.0, 45.0), strict=True):
     ax.label_outer()
 fig.legend(*axs[0, 0].get_legend_handles_labels(), loc="outside lower center", ncols=2)
 plt.show()
+
+# %%
+betas = (1.0, 5.0, 15.0, 45.0)
+beta_err = {alg: {beta: np.degrees(round_trip(B.coning(beta, 2.0, duration=20.0), 100.0,
+                                              "increments", alg).errors.attitude.max())
+                  for beta in betas} for alg in ("coning2", "poly8_m6")}
+by_beta = beta_err["poly8_m6"]
+for alg, errs in beta_err.items():
+    print(f"{name(alg)}, max attitude error:",
+          ", ".join(f"{b:g}° cone {F.fmt_err(e).strip()}°" for b, e in errs.items()))
+steady = all(np.diff([beta_err["coning2"][b] for b in betas]) > 0)
+
+# %%
+Markdown(
+    f"Two-sample coning {'grows steadily' if steady else 'does not grow steadily'} with the "
+    f"half-angle ({F.fmt_err(beta_err['coning2'][1.0]).strip()}° at 1°, "
+    f"{F.fmt_err(beta_err['coning2'][45.0]).strip()}° at 45°). The default does not: on the 15° "
+    f"cone its error ({F.fmt_err(by_beta[15.0]).strip()}°) is below that on the 5° cone "
+    f"({F.fmt_err(by_beta[5.0]).strip()}°). A sixth-order method's residual on a cone is a sum "
+    "of terms in different powers of $\\sin\\beta$ and $1 - \\cos\\beta$, which can partly "
+    "cancel at some angles; what to rely on is the order of §6 and the size at the motion you "
+    "care about, not a trend across angles.")
 
 # %% [markdown]
 # With a kernel: cone half-angle and frequency, sample rate and two algorithms. The figure
@@ -379,20 +430,6 @@ _ = interact(explore,
              b=Dropdown(options=choices, value="increments/poly6_m4", description="algorithm B"))
 
 # %% [markdown]
-# ## Checks run by the tests
-
-# %%
-print(f"8-node fit + Magnus-6 on the cone at 100 Hz: {inc['poly8_m6']['max_att_deg']:.2e} deg")
-assert inc["poly8_m6"]["max_att_deg"] <= 1.3e-6
-assert 1e-3 < inc["coning2"]["max_att_deg"] < 1.7e-3
-assert by_max[0]["max_att_deg"] < inc["coning2"]["max_att_deg"]     # coning2 is not the best
-motion_independent = {"first_order", "exact_exponential", "poly6_m4", "poly8_m6", "magnus4",
-                      "magnus6"}
-for r in conv_inc + conv_rates:
-    if r["algorithm"] in motion_independent and (r["kind"], r["algorithm"]) != ("rates", "first_order"):
-        assert abs(r["order_att"] - r["documented"][0]) < 0.35, r["algorithm"]
-
-# %% [markdown]
 # ## Takeaways
 #
 # - A gyro increment is the rotation only if the axis stays fixed; when it moves, Bortz's
@@ -400,7 +437,11 @@ for r in conv_inc + conv_rates:
 #   exponential.
 # - The classic causal algorithms differ only in how they estimate the coning (and sculling)
 #   terms from a few increments; the multi-sample ones are best at their major updates and on
-#   the cone they were designed for.
+#   the cone they were designed for — between updates, and so in their maximum error, the
+#   longer update interval costs them (Ignagni 4-sample is the worst coning algorithm by that
+#   measure on the spinning cone).
+# - An order is a slope, not a ranking: at one rate a first-order method can beat a
+#   second-order one (rate samples at 100 Hz on the cone), and the ranking turns at higher rates.
 # - Offline, a local polynomial through the cumulative increments and a Magnus step of order 6
 #   reach rounding level at ordinary rates; that is imunav's default for increments.
 # - A measured order belongs to a motion: on a cone the coning algorithms look better than
@@ -425,15 +466,35 @@ print(f"{len(sig)} increments; own vs library: {'<1e-12' if gap < 1e-12 else f'{
 assert len(sig) % 2 == 0 and gap < 1e-12
 
 # %% [markdown]
-# **Exercise 2.** On the sculling benchmark at 100 Hz, which causal increment algorithm has the
-# smallest maximum velocity error, and how much smaller is it than the exponential without any
-# correction?
+# **Exercise 2.** On the sculling benchmark at 100 Hz, compare the maximum velocity errors of
+# the causal increment algorithms. Which of them share one value, and why (look at §2: which
+# part of each algorithm differs)? How much smaller is that value than the exponential's,
+# which has no sculling term?
 
 # %% tags=["hide-cell"] jupyter={"source_hidden": true, "outputs_hidden": true}
 # Solution
 scull = F.run_family(B.sculling(duration=20.0), 100.0, kinds=("increments",))
-best_v = min((r for r in scull if r["causal"]), key=lambda r: r["max_vel"])
+for r in scull:
+    if r["causal"]:
+        print(f"{name('increments/' + r['algorithm']):34s} max velocity error {r['max_vel']:.6e} m/s")
+classic5 = [r for r in scull if r["algorithm"] in ("coning2", *multi)]
 plain = next(r for r in scull if r["algorithm"] == "exact_exponential")
-print(f"{name(best_v['algorithm'])}: {best_v['max_vel']:.1e} m/s, "
-      f"{plain['max_vel'] / best_v['max_vel']:.0f}× below the plain exponential")
-assert best_v["algorithm"] not in ("first_order", "exact_exponential")   # sculling corrected
+shared = classic5[0]["max_vel"]
+print(f"the {len(classic5)} coning algorithms share {shared:.3e} m/s: they differ only in the "
+      "coning (attitude) term and use one velocity scheme — the rotation and sculling terms "
+      f"of §2; {plain['max_vel'] / shared:.0f}× below the exponential without them")
+assert all(abs(r["max_vel"] / shared - 1) < 1e-6 for r in classic5)      # one sculling scheme
+assert plain["max_vel"] > 2 * shared
+
+# %% tags=["hide-cell"] jupyter={"source_hidden": true}
+# Checks (run by the tests, not part of the lesson): the headline numbers and orders.
+print(f"8-node fit + Magnus-6 on the cone at 100 Hz: {inc['poly8_m6']['max_att_deg']:.2e} deg")
+assert d_att < 1e-12 and d_pos < 1e-9                # the twenty lines are the library's
+assert inc["poly8_m6"]["max_att_deg"] <= 1.3e-6
+assert 1e-3 < inc["coning2"]["max_att_deg"] < 1.7e-3
+assert by_max[0]["max_att_deg"] < inc["coning2"]["max_att_deg"]     # coning2 is not the best
+motion_independent = {"first_order", "exact_exponential", "poly6_m4", "poly8_m6", "magnus4",
+                      "magnus6"}
+for r in conv_inc + conv_rates:
+    if r["algorithm"] in motion_independent and (r["kind"], r["algorithm"]) != ("rates", "first_order"):
+        assert abs(r["order_att"] - r["documented"][0]) < 0.35, r["algorithm"]

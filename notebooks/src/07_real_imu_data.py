@@ -28,9 +28,14 @@ import numpy as np
 from IPython.display import Markdown
 from ipywidgets import FloatSlider, interact
 
+from imunav import navigate
 from imunav.analysis import recordings as R
+from imunav.core.rotations import quat_to_dcm
 from imunav.earth import OMEGA_E as OMEGA_EARTH
+from imunav.earth import normal_gravity
 from imunav.plotting import figure, name, styled, use_book_style
+from imunav.sensors.signals import ImuSignals
+from imunav.strapdown.alignment import level_attitude
 
 use_book_style()
 SEED = 0
@@ -58,10 +63,12 @@ for rec in (x3, x1):
 # ($q_{bn}$). Only the right reading makes the rotation it reports between two times agree
 # with the gyro's: for $q_{nb}$ the body-frame relative rotation over a window is
 #
-# $$ \Delta q = q(t_0)^{*} \otimes q(t_1) \;\approx\; \exp\!\Big(\tfrac12\!\int_{t_0}^{t_1}\!\boldsymbol\omega_b\,dt\Big)
+# $$ \Delta q = q(t_0)^{*} \otimes q(t_1) \;\approx\; \exp\!\Big(\int_{t_0}^{t_1}\!\boldsymbol\omega_b\,dt\Big)
 #    \quad(\text{to first order in the window}), $$
 #
-# so for each reading we compare $\Delta q$ with the gyro's own integral over 2 s windows; the
+# with $\exp$ of a rotation vector as defined in notebook 00 (the half angle is inside it),
+#
+# and for each reading we compare $\Delta q$ with the gyro's own integral over 2 s windows; the
 # median disagreement (deg):
 
 # %%
@@ -102,7 +109,10 @@ Markdown(
     f"and drift away from the device as the window grows "
     f"({gvd[d1, 'magnus6'][min(gvd[d1, 'magnus6'])]:.1f}° at {min(gvd[d1, 'magnus6']):g} s, "
     f"{gvd[d1, 'magnus6'][w]:.1f}° at {w:g} s): the device's fusion is correcting its own gyro, "
-    "so its orientation is not a gyro-only reference.")
+    "so its orientation is not a gyro-only reference. Read these ratios as rough sizes: each "
+    "is a median over the few windows a short recording holds, and on the "
+    f"{d3} the distance does not even grow steadily with the window ("
+    + ", ".join(f"{v:.1f}° at {k:g} s" for k, v in gvd[d3, "magnus6"].items()) + ").")
 
 # %% [markdown]
 # ## 3. Static segments and bias estimation
@@ -129,21 +139,50 @@ print("x-IMU static segments:", R.static_segments(x1.signals),
 # %% [markdown]
 # ## 4. Double-integrating the accelerometers
 # Over the x-IMU3's static stretch the true position stays at zero, so whatever the
-# navigation produces is drift. Two offsets explain its shape: a residual accelerometer
-# offset $b_a$ integrates twice into $\tfrac12 b_a t^2$, and a gyro offset $b_g$ tilts the
-# attitude by $b_g t$, which leaks gravity into the horizontal and integrates into
-# $\tfrac16 g\,b_g t^3$:
+# navigation produces is drift. The attitude is levelled from the first 0.5 s at rest, which
+# absorbs the *horizontal* accelerometer offset into the initial tilt (notebook 05, §5). What
+# remains are two offsets, in different directions: the vertical accelerometer offset
+# $b_{a,D}$ integrates twice into $\tfrac12 b_{a,D} t^2$ along the vertical, and a gyro offset
+# tilts the attitude by $\boldsymbol b_g t$ (in navigation axes), which leaks gravity into the
+# horizontal and integrates into a cubic there:
 #
-# $$ |\boldsymbol p(t)| \approx c_2 t^2 + c_3 t^3, \qquad c_2 = \tfrac12 b_a, \quad c_3 = \tfrac16 g\, b_g . $$
+# $$ p_D \approx \tfrac12 b_{a,D}\,t^2, \qquad
+#    p_N \approx -\tfrac16 g\,b_{g,E}\,t^3, \qquad p_E \approx \tfrac16 g\,b_{g,N}\,t^3 . $$
 #
+# Each component is fitted by $c_2 t^2 + c_3 t^3$ (fitting the norm $|\boldsymbol p|$ instead
+# would add the lengths of perpendicular vectors).
 # The fit says what the data hold and nothing beyond them — what a MEMS IMU does over minutes
 # is the question `imunav assess` answers from its error model (notebook 05), not an
 # extrapolation of one second.
 
 # %%
 raw = R.drift_from_rest(s3, a, b)
-print(f"raw: drift after {raw['t'][-1]:.2f} s = {raw['drift'][-1] * 1e3:.1f} mm; "
-      f"fit c₂ = {raw['c2']:.2e} m/s², c₃ = {raw['c3']:.2e} m/s³")
+print(f"raw: drift after {raw['t'][-1]:.2f} s = {raw['drift'][-1] * 1e3:.1f} mm")
+# the same navigation as R.drift_from_rest, keeping the components
+q_rest = level_attitude(s3.accel[a:a + int(0.5 * s3.rate)], s3.g, tol=0.1)
+nav = navigate(ImuSignals(s3.t[a:b] - s3.t[a], s3.gyro[a:b], s3.accel[a:b], "rates",
+                          s3.rate, s3.g), q_rest, algorithm="magnus6")
+tn, pn = nav.t, nav.position
+A = np.stack([tn ** 2, tn ** 3], 1)
+coef = np.array([np.linalg.lstsq(A, pn[:, k], rcond=None)[0] for k in range(3)])   # (N,E,D)×(c2,c3)
+bg_n = quat_to_dcm(q_rest) @ s3.gyro[a:b].mean(0)          # the gyro offset in navigation axes
+pred = s3.g * np.array([-bg_n[1], bg_n[0]]) / 6             # c3 north, east from it
+print(f"{'':7s} {'c₂ (m/s²)':>11s} {'c₃ (m/s³)':>11s}   c₃ from the gyro offset")
+for k, ax in enumerate("NED"):
+    print(f"{ax:7s} {coef[k, 0]:11.2e} {coef[k, 1]:11.2e}   "
+          + (f"{pred[k]:.2e}" if k < 2 else "— (no tilt term)"))
+collinear = (tn ** 5).sum() / np.sqrt((tn ** 4).sum() * (tn ** 6).sum())
+print(f"t² and t³ over these {tn[-1]:.2f} s: correlation {collinear:.3f}")
+
+# %%
+Markdown(
+    f"The vertical drift is the quadratic: $c_2$ = {coef[2, 0]:.2e} m/s², an offset "
+    f"$b_{{a,D}}$ = {2 * coef[2, 0] * 1e3:.0f} mm/s², with no cubic. Northward the cubic is the "
+    f"one the gyro offset predicts ({coef[0, 1]:.2e} against {pred[0]:.2e} m/s³). Eastward the "
+    f"fit returns {coef[1, 1]:.2e} against {pred[1]:.2e} m/s³ and a quadratic of "
+    f"{coef[1, 0]:.2e} m/s² that levelling should have removed: over {tn[-1]:.1f} s the two "
+    f"shapes $t^2$ and $t^3$ are {collinear:.3f} correlated, so one second of data barely tells "
+    "them apart, and the split between them is not to be trusted beyond its sum.")
 
 # %% [markdown]
 # **Calibration judged on data it has not seen.** Estimating the offsets on the same samples
@@ -198,8 +237,8 @@ def show_split(split_s=0.66):
     hh = R.holdout_bias(s3, a, b, min(max(k, a + 5), b - 5))
     fig, axs = figure(1, 2, height=3.0)
     axs[0].plot(raw["t"], raw["drift"] * 1e3, **styled("measured", label="whole stretch, raw"))
-    axs[0].plot(raw["t"], (raw["c2"] * raw["t"] ** 2 + raw["c3"] * raw["t"] ** 3) * 1e3, "k:",
-                label="fit c₂t² + c₃t³")
+    axs[0].plot(tn, np.linalg.norm(A @ coef.T, axis=1) * 1e3, "k:",
+                label="|fit per component|")
     axs[0].axvspan(0, hh["estimation_s"], color="C2", alpha=0.12, label="estimation part")
     axs[0].set(xlabel="t (s)", ylabel="position drift (mm)", title="x-IMU3 at rest")
     axs[0].legend(loc="upper left")
@@ -220,43 +259,48 @@ _ = interact(show_split, split_s=FloatSlider(value=0.66, min=0.2, max=1.1, step=
                                              continuous_update=False, description="split (s)"))
 
 # %% [markdown]
-# ## Checks run by the tests
-
-# %%
-c3 = R.device_quaternion_convention(x3)
-print(min(c3, key=c3.get))
-assert min(c3, key=c3.get) == "wxyz/q_nb"
-h = R.holdout_bias(s3, a, b, (a + b) // 2)
-assert h["out_of_sample"]["final"] < 0.3 * h["raw"]["final"]
-# the static stretch ends before the motion resumes: its last 0.1 s is as quiet as the rest
-tail = s3.gyro[b - int(0.1 * s3.rate):b]
-assert np.ptp(tail, axis=0).max() < np.radians(3.0)
-
-# %% [markdown]
 # ## Takeaways
 #
 # - A device's quaternion convention is a claim to check against its own gyro, not to assume.
 # - At a low sample rate and a high angular rate the attitude update matters: the first-order
 #   update falls well behind the exponential and Magnus updates.
 # - A static stretch gives the offsets; double-integrated, even small ones make millimetres of
-#   drift within a second — quadratically from the accelerometer, cubically from the gyro.
+#   drift within a second — quadratically from the accelerometer (vertically, once levelling
+#   has absorbed the horizontal offset), cubically from the gyro (horizontally); fit each
+#   component, not the norm.
 # - Judge a calibration on data it has not seen.
 #
 # ## Exercises
 #
-# **Exercise 1.** The fit of §4 says $c_2 = \tfrac12 b_a$. What accelerometer offset does
-# $c_2$ imply, and how does it compare with the offsets the hold-out calibration estimated
-# (with the 0.5 s estimate)? Along which body axis is it?
+# **Exercise 1.** The vertical fit of §4 says $c_2 = \tfrac12 b_{a,D}$. What offset does it
+# imply, and how does it compare with the offsets the hold-out calibration estimated (with the
+# 0.5 s estimate)? Along which body axis is it? Is it the accelerometer's?
 
 # %% tags=["hide-cell"] jupyter={"source_hidden": true, "outputs_hidden": true}
 # Solution
-ba_fit = 2 * raw["c2"]
+ba_fit = 2 * coef[2, 0]
 hh = held[0.5]
 ba_est = hh["accel_bias_est"]
+f_rest = np.linalg.norm(s3.accel[a:b].mean(0))
+g_range = normal_gravity(np.radians([0.0, 90.0]))
 print(f"from c₂: {ba_fit * 1e3:.1f} mm/s²; estimated offsets (body axes): "
       f"{np.round(ba_est * 1e3, 1)} mm/s², |b_a| = {np.linalg.norm(ba_est) * 1e3:.1f} mm/s², "
       f"along body {'xyz'[np.argmax(np.abs(ba_est))]}")
+print(f"|f| at rest {f_rest:.4f} m/s² against the assumed g = {s3.g:.5f}: "
+      f"{(f_rest - s3.g) * 1e3:+.0f} mm/s²; normal gravity on the Earth runs from "
+      f"{g_range[0]:.4f} (equator) to {g_range[1]:.4f} m/s² (poles)")
 assert abs(ba_fit / np.linalg.norm(ba_est) - 1) < 0.1     # the same offset, seen two ways
+
+# %% [markdown]
+# %%
+Markdown(
+    f"The offset is {abs(ba_fit) * 1e3:.0f} mm/s² along the body z axis — but it is simply "
+    f"$|\\boldsymbol f|$ at rest ({f_rest:.4f} m/s²) minus the standard gravity "
+    f"{s3.g:.5f} m/s² assumed. Local gravity differs from that by up to "
+    f"{max(abs(g_range - s3.g)) * 1e3:.0f} mm/s² between the equator and the poles "
+    "(`imunav.earth.normal_gravity`), more with height, and the recording does not say where "
+    "it was made: the vertical offset cannot be attributed to the accelerometer without the "
+    "local gravity.")
 
 # %% [markdown]
 # **Exercise 2.** Which reading of the x-IMU's quaternion is *second* best, and by how much is
@@ -268,3 +312,14 @@ c1 = R.device_quaternion_convention(x1)
 ranked = sorted(c1, key=c1.get)
 print(f"best {ranked[0]} ({c1[ranked[0]]:.1f}°), second {ranked[1]} ({c1[ranked[1]]:.1f}°)")
 assert c1[ranked[1]] > 3 * c1[ranked[0]]        # the readings are far apart: the test is sharp
+
+# %% tags=["hide-cell"] jupyter={"source_hidden": true}
+# Checks (run by the tests, not part of the lesson): the convention, the hold-out, the stretch.
+c3 = R.device_quaternion_convention(x3)
+print(min(c3, key=c3.get))
+assert min(c3, key=c3.get) == "wxyz/q_nb"
+h = R.holdout_bias(s3, a, b, (a + b) // 2)
+assert h["out_of_sample"]["final"] < 0.3 * h["raw"]["final"]
+# the static stretch ends before the motion resumes: its last 0.1 s is as quiet as the rest
+tail = s3.gyro[b - int(0.1 * s3.rate):b]
+assert np.ptp(tail, axis=0).max() < np.radians(3.0)
