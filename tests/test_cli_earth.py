@@ -189,11 +189,12 @@ def test_assess_and_design_by_covariance_on_the_earth(tmp_path, capsys):
 
 @pytest.mark.parametrize("earth", [[], ["--earth", "wgs84", "--origin", ORIGIN]])
 def test_a_huge_duration_is_refused_in_one_line_not_run_for_years(tmp_path, capsys, earth):
-    """A 1e12 s motion at 100 Hz: the covariance assessment refuses at once (it used to scan
+    """A 1e12 s motion at 100 Hz: the covariance assessment and the design refuse at once (it used to scan
     the motion silently for hours before the first progress bar) — flat frame and Earth."""
     p = tmp_path / "long.toml"
     p.write_text(MOTION_TOML.replace("duration = 4.0", "duration = 1e12"))
-    assert main(["assess", str(p), "--imu", "tactical", "--rate", "100", "--tolerance", "5",
-                 *earth]) == 2
-    err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "the covariance analysis of 1e+14 steps" in err, err
+    for command in ("assess", "design"):
+        assert main([command, str(p), "--imu", "tactical", "--rate", "100", "--tolerance", "5",
+                     *earth]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "the covariance analysis of 1e+14 steps" in err, err

@@ -14,7 +14,7 @@ May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``, ``imunav.est
 from __future__ import annotations
 
 from imunav.analysis.assessment import PERCENTILE, SUITABLE_FRACTION, min_sample_rate
-from imunav.analysis.covariance import covariance_summary
+from imunav.analysis.covariance import check_steps, covariance_summary
 from imunav.core.validation import check_positive
 from imunav.estimation.error_model import LazyTrajectory
 from imunav.motion.base import BaseMotion, span
@@ -52,6 +52,7 @@ def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
     tolerance = check_positive(tolerance, "tolerance")
     p = PERCENTILE / 100
     duration = span(motion, rate, duration)
+    check_steps(rate, duration)
     traj = LazyTrajectory(motion, rate, duration)
     cov = covariance_summary(motion, base, rate, duration, output=output, p=p, maxima=True,
                              trajectory=traj, progress=progress, vertical=vertical)
