@@ -308,8 +308,8 @@ plt.show()
 # %% [markdown]
 # The held horizontal error is the hold's own step: between two holds the vertical velocity
 # error grows by $b\,\Delta t$ and its Coriolis term pushes east, so the error halves when the
-# height is held twice as often (above) — it would vanish for a continuous height aid, and the
-# navigation, which holds at every IMU sample, has a hundredth of it at 100 Hz.
+# height is held twice as often (above): it vanishes for a continuous height aid. (The
+# navigation's `hold=` holds at every IMU sample, so its share shrinks with the sample step.)
 #
 # ## 7. When does the flat frame suffice?
 # Notebooks 00–08 navigate on a flat, non-rotating Earth. On the real one that frame is wrong —
