@@ -288,6 +288,74 @@ def earth_checks(outs):
     return out
 
 
+EARTH_RATIOS = {
+    "earth_navigation_over_flat": ("Earth navigation / flat (default poly8_m6)",
+                                   lambda t: t["earth_default"] / t["flat_default"]),
+    "earth_navigation_over_flat_coning2": ("Earth navigation / flat (coning2)",
+                                           lambda t: t["earth_coning2"] / t["flat_coning2"]),
+    "pyins_navigate_over_imunav": ("pyins Integrator / imunav Earth (default)",
+                                   lambda t: t["pyins_navigate"] / t["earth_default"]),
+    "pyins_kernel_over_imunav": ("  pyins' numba loop alone / imunav Earth (default)",
+                                 lambda t: t["pyins_kernel"] / t["earth_default"]),
+    "pyins_navigate_over_imunav_coning2": ("pyins Integrator / imunav Earth (coning2)",
+                                           lambda t: t["pyins_navigate"] / t["earth_coning2"]),
+}
+
+
+def earth_only(a):
+    """``--only earth``: the rotating-Earth lines alone (timings, ratios, targets, agreement),
+    written to their own JSON."""
+    N, rate = a.samples, 100.0
+    wall0 = time.perf_counter()
+    load_start = os.getloadavg()
+    print(f"imunav {imunav.__version__} · numpy {np.__version__} · {os.cpu_count()} cores · "
+          f"{N:,} samples ({N / rate:g} s at {rate:g} Hz) · {a.rounds} interleaved rounds · "
+          f"earth lines only", flush=True)
+    print(f"load average at the start (1, 5, 15 min): {load_start[0]:.2f} {load_start[1]:.2f} "
+          f"{load_start[2]:.2f}", flush=True)
+    times, labels, outs = earth_bench(N, rate, a.rounds)
+    rows = {}
+    print(f"\n  {'contender':<66s} {'median':>9s}  {'min – max (ms)':>19s} {'ns/sample':>10s}")
+    for key, (label, samples) in labels.items():
+        med, lo, hi = spread(times[key])
+        rows[key] = {"label": label, "seconds": med, "min_seconds": lo, "max_seconds": hi,
+                     "rounds": times[key], "samples": samples, "ns_per_sample": med / samples * 1e9}
+        print(f"  {label:<66s} {med * 1e3:9.1f}  {lo * 1e3:8.1f} – {hi * 1e3:8.1f} "
+              f"{med / samples * 1e9:10.1f}", flush=True)
+    T = [{k: v[i] for k, v in times.items()} for i in range(a.rounds)]
+    ratios, ranges = {}, {}
+    print("\nratios (median of the rounds' ratios [min – max])")
+    for key, (name, f) in EARTH_RATIOS.items():
+        med, lo, hi = spread([f(t) for t in T])
+        ratios[key], ranges[key] = med, {"min": lo, "max": hi}
+        print(f"  {name:<54s} {med:8.2f}×   [{lo:8.2f} – {hi:8.2f}]")
+    targets = {
+        f"Earth navigation ≤ 1.5× flat (default, {N:.0e})": ratios["earth_navigation_over_flat"] <= 1.5,
+        "pyins Integrator / imunav on the Earth ≥ 1": ratios["pyins_navigate_over_imunav"] >= 1,
+    }
+    errors = earth_checks(outs)
+    print(f"\nagreement on the Earth, against the exact truth (free vertical channel, "
+          f"{N / rate:g} s):")
+    for k, v in errors.items():
+        print(f"    {k:<38s} {v:.3g}")
+    print("\ntargets (judged on the medians)")
+    for k, ok in targets.items():
+        print(f"  {'met ' if ok else 'MISSED'}  {k}")
+    load_end = os.getloadavg()
+    wall = time.perf_counter() - wall0
+    print(f"\nload average at the end: {load_end[0]:.2f} {load_end[1]:.2f} {load_end[2]:.2f}; "
+          f"wall time {wall / 60:.1f} min")
+    result = {"only": "earth", "samples": N, "rate": rate, "rounds": a.rounds,
+              "machine": {"cores": os.cpu_count(), "python": sys.version.split()[0],
+                          "numpy": np.__version__},
+              "load_average": {"start": list(load_start), "end": list(load_end)},
+              "wall_seconds": wall, "timings": rows, "ratios": ratios, "ratios_min_max": ranges,
+              "targets_met": targets, "earth_errors": errors}
+    Path(a.out).write_text(json.dumps(result, indent=2, ensure_ascii=False) + "\n")
+    print(f"wrote {a.out}")
+    return 0
+
+
 def states(n, q0):
     q, v, p = np.empty((n + 1, 4)), np.empty((n + 1, 3)), np.empty((n + 1, 3))
     q[0], v[0], p[0] = q0, 0.0, 0.0
@@ -382,8 +450,19 @@ def main(argv=None):
     ap.add_argument("--filter-rounds", type=int, default=1,
                     help="rounds of the aided-filter timing (pyins takes ~0.5-1 s per second "
                          "of data)")
-    ap.add_argument("--out", default=str(HERE / "results.json"))
+    ap.add_argument("--out", default=None,
+                    help="the JSON written (default benchmarks/results.json; with --only earth "
+                         "benchmarks/results-earth.json, so that a partial run never overwrites "
+                         "the whole bench's results)")
+    ap.add_argument("--only", choices=["earth"], default=None,
+                    help="run only one group of lines: 'earth' times the rotating-Earth "
+                         "navigation against the flat frame and against pyins (earth_bench) "
+                         "and reports its ratios, targets and agreement")
     a = ap.parse_args(argv)
+    if a.out is None:
+        a.out = str(HERE / ("results-earth.json" if a.only == "earth" else "results.json"))
+    if a.only == "earth":
+        return earth_only(a)
     N, rate = a.samples, 100.0
     h = 1.0 / rate
     wall0 = time.perf_counter()

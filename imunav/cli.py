@@ -655,10 +655,28 @@ def _warning_line(message, category, filename, lineno, file=None, line=None):
     print(f"imunav: warning: {message}", file=sys.stderr)
 
 
+def _joined_negative_origin(argv: list[str]) -> list[str]:
+    """``--origin -33.9,18.4,10`` (a southern latitude) as ``--origin=-33.9,18.4,10``: argparse
+    takes a value that starts with ``-`` and is not a plain number for an option of its own."""
+    out, i = [], 0
+    while i < len(argv):
+        a = argv[i]
+        nxt = argv[i + 1] if i + 1 < len(argv) else ""
+        if a == "--origin" and len(nxt) > 1 and nxt[0] == "-" and (nxt[1].isdigit()
+                                                                    or nxt[1] == "."):
+            out.append(f"--origin={nxt}")
+            i += 2
+            continue
+        out.append(a)
+        i += 1
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     """The command line: parse ``argv``, run the command, map errors to one line and an exit status."""
     try:
-        args = build_parser().parse_args(argv)
+        args = build_parser().parse_args(_joined_negative_origin(
+            sys.argv[1:] if argv is None else list(argv)))
     except SystemExit as exc:                                # usage errors (2), --help (0)
         return int(exc.code or 0)
     command = {"simulate": cmd_simulate, "navigate": cmd_navigate, "filter": cmd_filter,

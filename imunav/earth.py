@@ -80,6 +80,11 @@ def _angle(x, name: str) -> FloatArray:
     return as_float_array(x, name)
 
 
+#: The highest origin accepted (m above the ellipsoid): where the second-order height terms of
+#: :func:`normal_gravity` still hold to 2e-5 of γ.
+MAX_ORIGIN_HEIGHT = 1e5
+
+
 def check_origin(lat: float, lon: float, h: float, what: str = "origin") -> tuple[float, float, float]:
     """A geodetic point ``(lat, lon, h)`` (rad, rad, m) checked: finite, ``|lat| ≤ π/2``.
 
@@ -100,7 +105,8 @@ def check_origin(lat: float, lon: float, h: float, what: str = "origin") -> tupl
     Raises
     ------
     ImunavError
-        For a non-finite value, ``|lat| > π/2`` or a height below −a/2.
+        For a non-finite value, ``|lat| > π/2``, or a height below −a/2 or above
+        :data:`MAX_ORIGIN_HEIGHT` (100 km).
     """
     vals = []
     for name, v in (("latitude", lat), ("longitude", lon), ("height", h)):
@@ -109,7 +115,7 @@ def check_origin(lat: float, lon: float, h: float, what: str = "origin") -> tupl
         except (TypeError, ValueError):
             raise ImunavError(f"{what}: {name} must be a number, got {v!r}", argument=what) from None
         if not np.isfinite(x):
-            raise ImunavError(f"{what}: {name} must be finite, got {v!r}", argument=what)
+            raise ImunavError(f"{what}: {name} must be finite, got {x}", argument=what)
         vals.append(x)
     if abs(vals[0]) > np.pi / 2:
         raise ImunavError(f"{what}: latitude must be within ±90°, got {np.degrees(vals[0]):.10g}°",
@@ -117,6 +123,12 @@ def check_origin(lat: float, lon: float, h: float, what: str = "origin") -> tupl
     if vals[2] < -A / 2:
         raise ImunavError(f"{what}: height must be above −{A / 2:.0f} m, got {vals[2]:g} m",
                           argument=what)
+    if vals[2] > MAX_ORIGIN_HEIGHT:
+        # normal_gravity is second order in h/a: its next term, 4 (h/a)³, is 1.5e-5 of γ at
+        # 100 km and grows fast (1.5 % at 1000 km) — above that the gravity would be wrong
+        raise ImunavError(f"{what}: height must be at most {MAX_ORIGIN_HEIGHT:.0f} m above the "
+                          f"ellipsoid (normal gravity, second order in height, holds to 2e-5 "
+                          f"there), got {vals[2]:g} m", argument=what)
     return vals[0], vals[1], vals[2]
 
 

@@ -66,7 +66,9 @@ def test_simulate_and_navigate_on_the_earth(tmp_path, motion_file, output):
     (["--earth", "wgs84", "--origin", "55,east,0"], "argument --origin: --origin must be "
                                                     "LAT,LON,ALT"),
     (["--earth", "wgs84", "--origin", "55,37"], "--origin must be LAT,LON,ALT"),
-    (["--earth", "wgs84", "--origin", "55,37,nan"], "height must be finite"),
+    (["--earth", "wgs84", "--origin", "55,37,nan"], "height must be finite, got nan"),
+    (["--earth", "wgs84", "--origin", "-91,37,0"], "latitude must be within ±90°, got -91°"),
+    (["--earth", "wgs84", "--origin", "55,37,1e9"], "height must be at most 100000 m"),
     (["--earth", "wgs84", "--origin", ORIGIN, "--g", "9.8"], "--g belongs to the flat frame"),
     (["--origin", ORIGIN], "--origin applies to --earth wgs84 only"),
     (["--earth", "round"], "argument --earth: invalid choice: 'round'"),
@@ -77,6 +79,20 @@ def test_bad_earth_options_exit_2_with_one_line(tmp_path, motion_file, capsys, a
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1 and message in err, err
     assert not (tmp_path / "s.csv").exists()
+
+
+def test_a_southern_or_western_origin_is_read_as_given(tmp_path, motion_file, capsys):
+    """--origin -33.9,-70.6,500 (a negative first value) is the origin, not an unknown option,
+    spelled either way."""
+    for i, spelled in enumerate((["--origin", "-33.9,-70.6,500"], ["--origin=-33.9,-70.6,500"])):
+        truth = tmp_path / f"t{i}.csv"
+        assert main(["simulate", str(motion_file), "--rate", "50", "--out",
+                     str(tmp_path / f"s{i}.csv"), "--truth", str(truth), "--earth", "wgs84",
+                     *spelled]) == 0, capsys.readouterr().err
+        lat, lon, alt = read_states(truth).position[0]
+        assert np.degrees(lat) == pytest.approx(-33.9, abs=1e-12)
+        assert np.degrees(lon) == pytest.approx(-70.6, abs=1e-12)
+        assert alt == pytest.approx(500.0, abs=1e-6)
 
 
 def test_a_truth_of_the_other_frame_is_refused(tmp_path, motion_file, capsys):
@@ -169,3 +185,16 @@ def test_assess_and_design_by_covariance_on_the_earth(tmp_path, capsys):
                  str(out)]) == 0
     d = json.loads(out.read_text())
     assert "accel.bias" in d["terms"]
+
+
+@pytest.mark.parametrize("earth", [[], ["--earth", "wgs84", "--origin", ORIGIN]])
+def test_a_huge_duration_is_refused_in_one_line_not_run_for_years(tmp_path, capsys, earth):
+    """A 1e12 s motion at 100 Hz: the covariance assessment and the design refuse at once (it used to scan
+    the motion silently for hours before the first progress bar) — flat frame and Earth."""
+    p = tmp_path / "long.toml"
+    p.write_text(MOTION_TOML.replace("duration = 4.0", "duration = 1e12"))
+    for command in ("assess", "design"):
+        assert main([command, str(p), "--imu", "tactical", "--rate", "100", "--tolerance", "5",
+                     *earth]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "the covariance analysis of 1e+14 steps" in err, err

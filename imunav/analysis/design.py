@@ -14,7 +14,7 @@ May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``, ``imunav.est
 from __future__ import annotations
 
 from imunav.analysis.assessment import PERCENTILE, SUITABLE_FRACTION, min_sample_rate
-from imunav.analysis.covariance import covariance_summary
+from imunav.analysis.covariance import check_steps, covariance_summary
 from imunav.core.validation import check_positive
 from imunav.estimation.alignment import WINDOW
 from imunav.estimation.error_model import LazyTrajectory
@@ -104,6 +104,7 @@ def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
     tolerance = check_positive(tolerance, "tolerance")
     p = PERCENTILE / 100
     duration = span(motion, rate, duration)
+    check_steps(rate, duration)
     traj = LazyTrajectory(motion, rate, duration)
     al = {"alignment": alignment, "align_window": align_window}
     cov = covariance_summary(motion, base, rate, duration, output=output, p=p, maxima=True,

@@ -94,7 +94,7 @@ def error_periods(lat: float, speed_east: float = 0.0, h: float = 0.0) -> list[d
     osc = sorted({round(abs(e.imag), 15) for e in ev if abs(e.imag) > 1e-7})
     real = sorted(float(e.real) for e in ev if abs(e.imag) <= 1e-7)
     out = []
-    names = {0: "Earth-rate loop (24 h, with the transport rate)",
+    names = {0: "Earth-rate loop (+ transport rate)",
              1: "Schuler − Foucault", 2: "Schuler + Foucault"}
     for i, w in enumerate(osc):
         out.append({"mode": names.get(i, f"oscillation {i}"), "rate_rad_s": w,

@@ -125,9 +125,11 @@ print(f"against the closed forms: {np.abs(w - w_closed).max():.1g} rad/s, "
 #
 # $$ \ddot{\delta p} = b - \omega_s^2\,\delta p \quad\Rightarrow\quad
 #    \delta p(t) = \frac{b}{\omega_s^2}\,(1 - \cos \omega_s t), \qquad
-#    \omega_s = \sqrt{g/R}. $$
+#    \omega_s = \sqrt{g/R}, $$
 #
-# Below, a north bias of 1 mg on an IMU at rest on the equator (the north channel is not coupled
+# with $R$ the radius of curvature along the error: the meridian radius $R_N$ for a north
+# error (on the equator 6335 km, shorter than the mean radius of §1, so the period is a little
+# shorter there too). Below, a north bias of 1 mg on an IMU at rest on the equator (the north channel is not coupled
 # to the vertical there) for three hours, with the vertical held (a perfect height aid, §6):
 # the full nonlinear navigation (simulate, add the bias, navigate on the Earth), the error model
 # (`bias_response`) and the closed form.
@@ -151,7 +153,9 @@ north_nav = E.ned_difference(nav.position, eq.states(nav.t).position)[:, 0]
 rn = E.radii(0.0)[0]
 ws = np.sqrt(float(E.normal_gravity(0.0)) / rn)
 closed = b * (1 - np.cos(ws * resp["t"])) / ws**2
-print(f"Schuler period {2 * np.pi / ws / 60:.2f} min; peak 2b/ω_s² = {2 * b / ws**2:.0f} m")
+print(f"Schuler period of the north channel {2 * np.pi / ws / 60:.2f} min (R = R_N, the meridian "
+      f"radius, {rn / 1e3:.0f} km; §1's {2 * np.pi / E.schuler_frequency(0.0) / 60:.1f} min uses the "
+      f"mean radius); peak 2b/ω_s² = {2 * b / ws**2:.0f} m")
 print(f"error model vs closed form: largest difference {np.abs(resp['position'][:, 0] - closed).max():.2g} m")
 print(f"navigation vs error model (at the model's times): largest difference "
       f"{np.abs(np.interp(resp['t'], nav.t, north_nav) - resp['position'][:, 0]).max():.2g} m")
@@ -163,8 +167,9 @@ ax.plot(nav.t / 60, north_nav / 1e3, color=series_style(0)["color"], lw=3,
 ax.plot(resp["t"] / 60, resp["position"][:, 0] / 1e3, color=series_style(1)["color"], lw=1.5,
         label="error model (coincides)")
 ax.plot(resp["t"] / 60, closed / 1e3, "--", color="black", lw=1, label=r"$(b/\omega_s^2)(1-\cos\omega_s t)$ (coincides)")
-ax.set(xlabel="t (min)", ylabel="north error (km)", title="1 mg north bias at rest on the equator")
-ax.legend(loc="upper center")
+ax.set(xlabel="t (min)", ylabel="north error (km)", title="1 mg north bias at rest on the equator",
+       ylim=(-0.5, 1.45 * 2 * b / ws**2 / 1e3))
+ax.legend(loc="upper center", ncol=3)
 plt.show()
 
 # %% [markdown]
@@ -184,9 +189,10 @@ def schuler(lat_deg=0.0, bias_mg=1.0, hours=3.0):
     ax.plot(r["t"] / 60, r["position"][:, 1], color=series_style(2)["color"], label="east")
     ax.plot(r["t"] / 60, bias_mg * 9.80665e-3 * (1 - np.cos(np.sqrt(w2) * r["t"])) / w2, "--",
             color="black", lw=1, label="closed form (no Earth rotation)")
+    top = np.abs(r["position"][:, :2]).max()
     ax.set(xlabel="t (min)", ylabel="position error (m)",
-           title=f"{bias_mg:g} mg north bias at {lat_deg:g}°")
-    ax.legend(loc="upper left")
+           title=f"{bias_mg:g} mg north bias at {lat_deg:g}°", ylim=(-1.05 * top, 1.5 * top))
+    ax.legend(loc="upper center", ncol=3)
     plt.show()
     print(f"largest error {np.abs(r['position'][:, :2]).max():.3g} m")
 
@@ -247,7 +253,7 @@ R = np.sqrt(rn30 * re30)
 foucault = E.OMEGA_E * np.sin(lat30) + v90 * np.tan(lat30) / re30
 formula = {"Schuler − Foucault": np.sqrt(g30 / R) - foucault,
            "Schuler + Foucault": np.sqrt(g30 / R) + foucault,
-           "Earth-rate loop (24 h, with the transport rate)": E.OMEGA_E + v90 / (re30 * np.cos(lat30)),
+           "Earth-rate loop (+ transport rate)": E.OMEGA_E + v90 / (re30 * np.cos(lat30)),
            "vertical, growing": np.sqrt(2 * g30 / R), "vertical, decaying": -np.sqrt(2 * g30 / R)}
 print(f"{'mode':48s} {'model':>14s} {'formula':>14s}")
 for mo in modes:
@@ -281,9 +287,11 @@ wv = np.sqrt(2 * float(E.normal_gravity(45 * DEG)) / E.A)
 print(f"after 30 min: free height error {abs(free['position'][-1, 2]):.0f} m "
       f"(closed form {b * (np.cosh(wv * 1800) - 1) / wv**2:.0f} m), "
       f"held {abs(held['position'][-1, 2]):.1e} m")
+held2 = bias_response(still45, 2.0, 1800.0, accel=[0, 0, b], vertical="hold")
 print(f"horizontal error: free {np.hypot(*free['position'][-1, :2]):.1f} m "
       f"(the Coriolis term of the vertical velocity error), held "
-      f"{np.hypot(*held['position'][-1, :2]):.2g} m")
+      f"{np.hypot(*held['position'][-1, :2]):.2g} m with the height held once a second, "
+      f"{np.hypot(*held2['position'][-1, :2]):.2g} m held twice a second")
 
 # %% tags=["hide-input"]
 fig, ax = figure(1, 1, height=2.7)
@@ -298,6 +306,11 @@ ax.legend(loc="lower right")
 plt.show()
 
 # %% [markdown]
+# The held horizontal error is the hold's own step: between two holds the vertical velocity
+# error grows by $b\,\Delta t$ and its Coriolis term pushes east, so the error halves when the
+# height is held twice as often (above): it vanishes for a continuous height aid. (The
+# navigation's `hold=` holds at every IMU sample, so its share shrinks with the sample step.)
+#
 # ## 7. When does the flat frame suffice?
 # Notebooks 00–08 navigate on a flat, non-rotating Earth. On the real one that frame is wrong —
 # the gyros sense the Earth's turn and the navigation takes it for the body's — and the error
@@ -315,14 +328,22 @@ print("the flat frame's cost at rest: " + ", ".join(
     f"{p:.3g} m after {t:g} s" for p, t in zip(cost["position"][k], cost["t"][k], strict=True)))
 models = {name: ImuModel.load(name) for name in PRESETS if name != "ideal"}
 table = flat_frame_suffices(ten_min, origin45, models, rate=10.0, cov_rate=1.0)
-print(f"\n{'IMU':12s} {'flat frame suffices for':>24s} {'IMU error at 10 min':>22s}")
+print(f"\n{'IMU':12s} {'gyro bias':>12s} {'flat frame suffices for':>24s} "
+      f"{'IMU error at 10 min':>20s}")
 for row in table:
+    gyro = models[row["imu"]].gyro
+    bias_dph = np.degrees(max(gyro.bias or 0.0, gyro.bias_instability or 0.0)) * 3600
     span = "all 10 min" if row["seconds"] is None else f"{row['seconds']:.0f} s"
-    print(f"{row['imu']:12s} {span:>24s} {row['own_error_at_end_m']:19.3g} m")
+    print(f"{row['imu']:12s} {bias_dph:8.3g} °/h {span:>24s} {row['own_error_at_end_m']:17.3g} m")
 
 # %% [markdown]
 # A consumer or industrial MEMS IMU (BNO055 to ADIS16470) drifts far more than the flat frame
 # costs: for them the Earth does not matter, and the flat frame is the faster, simpler choice.
+# (The consumer IMUs' figures, tens to hundreds of thousands of kilometres, are not distances
+# to read: a gyro bias
+# of thousands to tens of thousands of °/h tilts them by radians within the ten minutes, far
+# outside the covariance analysis's linear range — they say "lost unaided", which is all the
+# verdict needs.)
 # From tactical grade on, the Earth's turn is the larger error within minutes: navigate with
 # `--earth wgs84`.
 #
@@ -332,6 +353,7 @@ for row in table:
 assert np.abs(resp["position"][:, 0] - closed).max() < 1e-3 * 2 * b / ws**2
 assert np.abs(np.interp(resp["t"], nav.t, north_nav) - resp["position"][:, 0]).max() < 1.0
 assert abs(2 * np.pi / ws / 60 - 84.3) < 0.1
+assert 0.4 < np.hypot(*held2["position"][-1, :2]) / np.hypot(*held["position"][-1, :2]) < 0.6
 per = {mo["mode"]: mo for mo in modes}
 for key in ("Schuler − Foucault", "Schuler + Foucault"):
     assert abs(per[key]["rate_rad_s"] / formula[key] - 1) < 5e-3
