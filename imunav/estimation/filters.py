@@ -896,6 +896,30 @@ class _Earth:
         ig.r = ig.r - dr
         return self.local(t, ig.q_ib, ig.v, ig.r)
 
+    def reading(self, t, inertial, x, omega, dt, est, gyro_input, name, values):
+        """What a measurement class predicts a reading from on the Earth: the state
+        ``inertial = (q_ib, v_i, r_i)`` corrected by the navigation error ``x`` (9,) in local
+        NED, its origin on the ellipsoid below the estimate (a GNSS fix becomes its NED offset
+        from there), the body rate relative to the Earth (an antenna's velocity); and ``M``,
+        which carries the local Jacobian onto the inertial errors.
+
+        Returns
+        -------
+        nav : NavPoint
+        values : ndarray
+            The reading in those coordinates.
+        M : ndarray, shape (9, 9)
+        """
+        q_i, v_i, r_i = inertial
+        qc = quat_mul(quat_exp(x[PHI]), q_i)
+        q, v, lla = self.local(t, qc / np.linalg.norm(qc), v_i - x[DV], r_i - x[DP])
+        w_rel = omega - quat_to_dcm(q).T @ earth_rate_ned(lla[0])
+        nav = NavPoint(q, v, np.array([0.0, 0.0, -lla[2]]), w_rel, dt, est, gyro_input)
+        if name == "gnss":
+            ref = np.array([lla[0], lla[1], 0.0])
+            values = np.concatenate([ned_difference(values[:3], ref), values[3:]])
+        return nav, values, self.output_map(t, lla, v)
+
     def output_map(self, t, lla, v_n):
         """``M`` (…, 9, 9): local NED errors ``[φ_n, δv_n, δp_n]`` of the inertial ones."""
         t = np.asarray(t, dtype=float)
@@ -994,19 +1018,12 @@ def _updates(readings, k, q_nodes, v_nodes, p_nodes, gyro_raw, accel_raw, s_hat,
             qk, vk, pk = _inject(q_nodes[k], v_nodes[k], p_nodes[k], x[:NAV])
             nav = NavPoint(qk, vk, pk, omega, dt, est_x, Mg)
         else:
-            qc = quat_mul(quat_exp(x[PHI]), q_i)
-            qk, vk, lla = earth.local(t, qc / np.linalg.norm(qc), v_i - x[DV], r_i - x[DP])
-            # local NED at the estimate, its origin on the ellipsoid below it; the body rate
-            # relative to the Earth (the antenna's velocity)
-            w_rel = omega - quat_to_dcm(qk).T @ earth_rate_ned(lla[0])
-            nav = NavPoint(qk, vk, np.array([0.0, 0.0, -lla[2]]), w_rel, dt, est_x, Mg)
-            if name == "gnss":
-                ref = np.array([lla[0], lla[1], 0.0])
-                values = np.concatenate([ned_difference(values[:3], ref), values[3:]])
+            nav, values, M = earth.reading(t, (q_i, v_i, r_i), x[:NAV], omega, dt, est_x, Mg,
+                                           name, values)
         z = m.residual(m.predict(nav), values)
         H = m.jacobian(nav)
         if earth is not None:
-            H[:, :NAV] = H[:, :NAV] @ earth.output_map(t, lla, vk)
+            H[:, :NAV] = H[:, :NAV] @ M
         # the state already holds x: the innovation is taken about the corrected state
         up = update(x, P, z + H @ x, H, m.noise(), gate=gate)
         logs[name].append((t_read, up.innovation, up.S, up.nis, up.accepted))
