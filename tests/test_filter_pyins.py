@@ -133,10 +133,11 @@ def both():
 
 
 def test_imunav_position_rms_no_worse_than_pyins(both):
-    """The 3-D position RMS against the exact truth: imunav's at most pyins' (measured 60 s at
-    100 Hz: imunav [1.066, 0.563, 0.442] m, pyins [1.066, 0.566, 0.442] m per NED axis — the
-    same filter on the same data to 0.5 %, pyins' own Earth and gravity models the
-    difference)."""
+    """The 3-D position RMS against the exact truth: imunav's at most pyins' (measured, 60 s at
+    100 Hz after the first 5 s: imunav [1.1759, 0.7345, 0.6029] m, 3-D 1.5118 m; pyins
+    [1.1755, 0.7361, 0.6025] m, 3-D 1.5121 m — the same estimator on the same data to 0.3 %
+    per axis, pyins' own Earth and gravity models and strapdown the difference; the margin is
+    small, and the comparison deterministic: fixed seeds, no threads in either)."""
     e_i = float(np.sqrt(np.mean(np.sum(both["imunav_err"] ** 2, axis=1))))
     e_p = float(np.sqrt(np.mean(np.sum(both["pyins_err"] ** 2, axis=1))))
     assert e_i <= e_p, (e_i, e_p)
@@ -147,8 +148,9 @@ def test_imunav_position_rms_no_worse_than_pyins(both):
 @pytest.mark.parametrize("who", ["imunav", "pyins"])
 def test_position_errors_within_reported_sigma(both, who):
     """Each filter's position RMS per NED axis within twice the RMS of the σ it reports (a
-    single run: the 95 % band of the RMS of ~55 strongly correlated epochs is wide), and the
-    horizontal errors beyond 3σ at under 5 % of the epochs."""
+    single run: the 95 % band of the RMS of ~55 strongly correlated epochs is wide; measured
+    1.45, 0.91, 0.86 times σ for both), and imunav's horizontal errors beyond 3σ at under 5 % of
+    the nodes."""
     err, sd = both[f"{who}_err"], both[f"{who}_sd"]
     assert np.all(rms(err) <= 2.0 * rms(sd)), (who, rms(err), rms(sd))
     if who == "imunav":                                  # σ at the same nodes as the errors
