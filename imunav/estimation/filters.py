@@ -475,7 +475,8 @@ class FilterResult:
     epochs : ndarray of int, shape (E,)
         The covariance epochs (node indices).
     P_nav : ndarray, shape (E, 9, 9)
-        The navigation-error covariance (``φ``, ``δv``, ``δp``) at each epoch (after its update).
+        The navigation-error covariance (``φ``, ``δv``, ``δp``) at each epoch (after its update);
+        on the Earth that of the local NED errors (``δp`` in metres north, east, down).
     innovations : dict
         ``{sensor: Innovations}``.
     estimates : ndarray, shape (E, n − 9)
