@@ -1,9 +1,12 @@
 """Full-size consistency of the aided filter (issue 28): Monte Carlo NEES of position, velocity
 and attitude against the 95 % χ² band, and the whiteness of the innovations, on the three
-scenarios of ``tests/test_estimation_filter.py`` at full size (more runs, longer drives, the
-ADIS16470 preset beside the test's MEMS model). The tests run the reduced version.
+scenarios of ``tests/test_estimation_filter.py`` and the GNSS-aided drive on the rotating
+WGS-84 Earth of ``tests/test_estimation_filter_earth.py`` (``gnss_drive_wgs84``: the same drive
+at 50° N, 30° E, 200 m) at full size (more runs, longer drives, the ADIS16470 preset beside the
+test's MEMS model). The tests run the reduced version.
 
     .venv/bin/python benchmarks/aided_consistency.py [--runs 50] [--out results_aided.json]
+        [--only gnss_drive_wgs84 …]   (the others' results already in --out are kept)
 """
 
 from __future__ import annotations
@@ -22,12 +25,18 @@ sys.path.insert(0, str(HERE.parent / "tests"))
 from test_estimation_filter import IMU_TERMS, drive  # noqa: E402
 
 from imunav.analysis.aided import filter_monte_carlo, nees_band  # noqa: E402
+from imunav.motion.geodetic import EarthMotion  # noqa: E402
 from imunav.sensors.aiding import AidingConfig  # noqa: E402
 from imunav.sensors.models import ImuModel  # noqa: E402
+
+#: Where the wgs84 scenario drives (rad, rad, m), as tests/test_estimation_filter_earth.py.
+ORIGIN = (np.radians(50.0), np.radians(30.0), 200.0)
 
 SCENARIOS = {
     "gnss_drive": ({"gnss": {"rate": 1, "position_sigma": 1.5, "velocity_sigma": 0.1,
                              "lever_arm": [1.0, 0.2, -1.5]}}, 300.0, False),
+    "gnss_drive_wgs84": ({"gnss": {"rate": 1, "position_sigma": 1.5, "velocity_sigma": 0.1,
+                                   "lever_arm": [1.0, 0.2, -1.5]}}, 300.0, False),
     "gnss_outage_60s": ({"gnss": {"rate": 1, "position_sigma": 1.5, "correlated_sigma": 1.0,
                                   "correlation_time": 60.0, "outages": [[120.0, 180.0]]}},
                         300.0, True),
@@ -58,13 +67,21 @@ def main(argv=None):
     ap.add_argument("--runs", type=int, default=50)
     ap.add_argument("--imu", nargs="*", default=["test MEMS", "ADIS16470"])
     ap.add_argument("--out", default=str(HERE / "results_aided.json"))
+    ap.add_argument("--only", nargs="*", choices=sorted(SCENARIOS),
+                    help="run these scenarios only (keeping the others' results in --out)")
     a = ap.parse_args(argv)
-    results = {}
+    out = Path(a.out)
+    results = json.loads(out.read_text()) if a.only and out.exists() else {}
     for imu_name in a.imu:
         imu = IMU_TERMS if imu_name == "test MEMS" else ImuModel.load(imu_name)
         for name, (cfg, duration, smooth) in SCENARIOS.items():
+            if a.only and name not in a.only:
+                continue
             t0 = time.perf_counter()
-            mc = filter_monte_carlo(drive(duration), imu, AidingConfig.from_dict(cfg), 100.0,
+            motion = drive(duration)
+            if name.endswith("_wgs84"):
+                motion = EarthMotion(motion, ORIGIN)
+            mc = filter_monte_carlo(motion, imu, AidingConfig.from_dict(cfg), 100.0,
                                     duration, a.runs, seed=3, smooth=smooth,
                                     algorithm="coning2")
             s = mc.summary()
@@ -78,6 +95,7 @@ def main(argv=None):
                                          "smoother": float(res.smoothed.sd[mid, 0])}
             key = f"{imu_name}/{name}"
             results[key] = s
+            out.write_text(json.dumps(results, indent=1) + "\n")      # as each one lands
             lo, hi = nees_band(a.runs)
             print(f"{key}: {a.runs} runs, {duration:g} s, band [{lo:.3f}, {hi:.3f}] "
                   f"({s['seconds']:.0f} s)", flush=True)
@@ -94,7 +112,7 @@ def main(argv=None):
             if smooth:
                 print(f"  mid-outage σ north: filter {s['mid_outage_sd_pn']['filter']:.2f} m, "
                       f"smoother {s['mid_outage_sd_pn']['smoother']:.2f} m", flush=True)
-    Path(a.out).write_text(json.dumps(results, indent=1) + "\n")
+    out.write_text(json.dumps(results, indent=1) + "\n")
 
 
 if __name__ == "__main__":

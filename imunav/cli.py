@@ -35,7 +35,7 @@ from imunav.io.aiding import AIDING_FILES, check_span, read_aiding, write_aiding
 from imunav.io.csvio import CsvWriter
 from imunav.io.files import (
     ROW_BYTES,
-    STATE_HEADER,
+    STATE_HEADERS,
     SignalFile,
     load_motion,
     read_initial_state,
@@ -187,6 +187,11 @@ def build_parser() -> argparse.ArgumentParser:
     f.add_argument("--covariance-step", type=_positive("--covariance-step"), default=0.1,
                    metavar="S", help="longest covariance step (s, default 0.1)")
     f.add_argument("--g", type=_positive("--g"), metavar="G", help="gravity (m/s²), 9.80665")
+    f.add_argument("--earth", choices=EARTHS, default="flat",
+                   help="navigation frame: flat (the default) or wgs84 (the rotating Earth: "
+                        "--initial a t,lat,lon,alt,vn,ve,vd,… truth, gnss.csv "
+                        "t,lat,lon,alt[,vn,ve,vd], baro.csv heights above the ellipsoid; --out "
+                        "t,lat,lon,alt,vn,ve,vd,qw,qx,qy,qz plus the σ in metres)")
 
     a = sub.add_parser("assess", help="can this IMU track this motion? (the verdict)")
     a.add_argument("motion", metavar="MOTION", help=MOTION_HELP)
@@ -344,9 +349,6 @@ def cmd_simulate(args) -> int:
     model, imu_files = _imu(args.imu)
     if (args.aiding is None) != (args.aiding_out is None):
         raise ImunavError("--aiding and --aiding-out go together")
-    if args.aiding and args.earth != "flat":
-        raise ImunavError("--aiding simulates the flat frame so far: the aided filter on "
-                          "--earth wgs84 is not built yet")
     aiding = AidingConfig.from_toml(args.aiding) if args.aiding else None
     inputs = [args.motion, *imu_files] + ([args.aiding] if args.aiding else [])
     out = check_outputs({"--out": args.out, "--truth": args.truth}, inputs)
@@ -378,7 +380,7 @@ def cmd_simulate(args) -> int:
     if aiding is not None:
         data = simulate_aiding(motion, aiding, n / args.rate, seed=args.seed,
                                imu_rate=args.rate)
-        files = write_aiding(args.aiding_out, data)
+        files = write_aiding(args.aiding_out, data, motion.frame)
         counts = ", ".join(f"{p.name} ({_rows(data, p.stem)} rows)" for p in files)
         print(f"wrote {counts} to {args.aiding_out}")
     offset = motion.time_offset
@@ -414,17 +416,18 @@ def cmd_filter(args) -> int:
     if not aiding.sensors:
         raise ImunavError(f"--aiding {args.aiding} has no aiding sensor ([gnss], [baro], "
                           "[heading], [nhc] or [zupt])")
+    if args.earth == "wgs84" and args.g is not None:
+        raise ImunavError("--g belongs to the flat frame: with --earth wgs84 gravity comes from "
+                          "the normal gravity model")
     sig = read_signals(args.signals, g=args.g)
     _check_algorithm(sig.kind, args.algorithm)
     init = read_initial_state(args.initial)
-    if init.frame != "flat":
-        raise ImunavError(f"--initial {args.initial} is a {init.frame} state: the aided filter "
-                          "works in the flat frame so far (t,x,y,z,vx,vy,vz,qw,qx,qy,qz)")
+    _check_initial_frame(args, init)
     t_start = float(sig.state_times()[0])
     if abs(init.t[0] - t_start) > 1e-6 / sig.rate + 1e-12 * abs(t_start):
         raise ImunavError(f"--initial {args.initial} starts at t = {init.t[0]:.9g} s but the "
                           f"signals start at t = {t_start:.9g} s")
-    data = read_aiding(args.measurements, aiding.sensors)
+    data = read_aiding(args.measurements, aiding.sensors, args.earth)
     t_end = float(sig.state_times()[-1])
     check_span(args.measurements, data, t_start, t_end)
     if aiding.zupt and aiding.zupt.detector == "truth" and data.zupt is None:
@@ -437,11 +440,12 @@ def cmd_filter(args) -> int:
     q0, v0, p0 = init.initial()
     res = run_filter(sig, q0, v0, p0, aiding, data, imu=model, algorithm=args.algorithm,
                      covariance_step=args.covariance_step,
-                     gate=None if args.gate >= 1 else args.gate, smooth=args.smooth)
+                     gate=None if args.gate >= 1 else args.gate, smooth=args.smooth,
+                     earth=args.earth)
     r = res.smoothed if args.smooth else res
     st = r.states
-    with CsvWriter(out["--out"], STATE_HEADER + SD_COLUMNS) as w:
-        w.write([st.t, st.position, st.velocity, st.quaternion, r.sd])
+    with CsvWriter(out["--out"], STATE_HEADERS[args.earth] + SD_COLUMNS) as w:
+        w.write(state_columns(st) + [r.sd])
     for msg in res.warnings:
         print(f"imunav: warning: {msg}", file=sys.stderr)
     what = "smoothed " if args.smooth else ""

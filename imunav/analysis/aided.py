@@ -7,7 +7,9 @@ runs :func:`imunav.estimation.filters.run_filter` (and its smoother) from the tr
 state. At every covariance epoch the normalised estimation error squared (NEES) of position,
 velocity and attitude is ``eᵀ P⁻¹ e`` with ``e`` the error against the exact motion (attitude:
 ``φ`` with ``C_est = (I − [φ×]) C``); for a consistent filter its average over ``R`` runs is
-``χ²(3R)/R``.
+``χ²(3R)/R``. On the rotating Earth (``motion.frame == "wgs84"``) the position error is the
+estimate's NED offset from the truth (metres, :func:`imunav.earth.ned_difference`) and the
+covariances those of local NED the filter reports.
 
 May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``, ``imunav.estimation``.
 """
@@ -20,6 +22,7 @@ import numpy as np
 from scipy.stats import chi2
 
 from imunav.core.kernels import FloatArray, quat_conj, quat_log, quat_mul
+from imunav.earth import ned_difference
 from imunav.estimation.error_model import DP, DV, PHI
 from imunav.estimation.filters import FilterResult, run_filter
 from imunav.motion.base import BaseMotion
@@ -55,7 +58,9 @@ def nees(result: FilterResult, motion: BaseMotion, skip: float = 0.0) -> dict[st
     ep, P = result.epochs[keep], result.P_nav[keep]
     tr = motion.states(result.t[ep])
     st = result.states
-    err = {"position": st.position[ep] - tr.position,
+    dp = (ned_difference(st.position[ep], tr.position) if tr.frame == "wgs84"
+          else st.position[ep] - tr.position)
+    err = {"position": dp,
            "velocity": st.velocity[ep] - tr.velocity,
            "attitude": -quat_log(quat_mul(st.quaternion[ep], quat_conj(tr.quaternion)))}
     out = {k: np.einsum("ni,ni->n", e, np.linalg.solve(P[:, BLOCKS[k], BLOCKS[k]],
@@ -188,7 +193,8 @@ def filter_monte_carlo(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, 
         data = simulate_aiding(motion, aiding, duration, seed=seed, run=r, imu_rate=rate)
         res = run_filter(sig, st0.quaternion[0], st0.velocity[0], st0.position[0], aiding, data,
                          imu=imu, smooth=smooth, algorithm=algorithm,
-                         covariance_step=covariance_step)
+                         covariance_step=covariance_step,
+                         earth=getattr(motion, "frame", "flat"))
         for name, R in (("filter", res),) + ((("smoother", res.smoothed),) if smooth else ()):
             n = nees(R, motion, skip)
             out.t = n.pop("t")

@@ -38,7 +38,21 @@ coordinates of the uncorrected state at each epoch (there the predicted error is
 filtered one is the correction ``x̂``), so the smoothed error of the corrected state is
 ``x^s − x̂``.
 
-May import: ``imunav.core``, ``imunav.sensors``, ``imunav.strapdown``, ``imunav.estimation``.
+**On the rotating Earth** (``earth="wgs84"``) the navigation runs in the inertial frame ``i``
+that coincides with ECEF at the record's start (:mod:`imunav.strapdown.earth`), and so does the
+error state (:class:`~imunav.estimation.error_model.EarthErrorModel`: φ, δv, δr in ``i``, with
+the gravity gradient Γ). The strapdown's body-frame side is the algorithm's own, its
+navigation side an :class:`~imunav.strapdown.earth.EarthIntegrator` whose inertial state the
+feedback corrects. A reading is predicted by the same measurement classes in the local NED
+frame at the estimated position (GNSS positions as their NED offset from it, altitudes above
+the ellipsoid, the body rate relative to the Earth for the lever arm), and its Jacobian with
+respect to the local errors is carried onto the inertial ones by the exact first-order map
+``[φ_n, δv_n, δp_n] = M [φ, δv, δr]`` of :meth:`EarthErrorModel.local
+<imunav.estimation.error_model.EarthErrorModel.local>` (``H = H_local M``); the reported
+covariances (and the smoother's corrections) are mapped by the same ``M``.
+
+May import: ``imunav.core``, ``imunav.earth``, ``imunav.sensors``, ``imunav.strapdown``,
+``imunav.estimation``.
 """
 
 from __future__ import annotations
@@ -48,15 +62,38 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
-from imunav.core.kernels import FloatArray, quat_exp, quat_mul, quat_to_dcm, skew
+from imunav.core.kernels import (
+    FloatArray,
+    quat_conj,
+    quat_exp,
+    quat_mul,
+    quat_rotate,
+    quat_to_dcm,
+    skew,
+)
 from imunav.core.rotations import quat_normalize
 from imunav.core.states import States
 from imunav.core.threads import limit_blas
 from imunav.core.validation import ImunavError, as_float_array, check_positive
+from imunav.earth import (
+    OMEGA_E,
+    curvature_matrix,
+    dcm_ecef_to_inertial,
+    dcm_ned_to_ecef,
+    earth_rate_ned,
+    ecef_to_geodetic,
+    geodetic_to_ecef,
+    gravitation_gradient,
+    ned_difference,
+    quat_ecef_to_inertial,
+    quat_ned_to_ecef,
+    radii,
+)
 from imunav.estimation.discretisation import GAUSS_LEGENDRE, phi_functions
 from imunav.estimation.error_model import (
     DP,
     DV,
+    EARTH,
     FLAT,
     NAV,
     PHI,
@@ -81,6 +118,7 @@ from imunav.estimation.smoother import rts_gain
 from imunav.sensors.aiding import AidingConfig, AidingData, InitialConfig, Readings, shoe_intervals
 from imunav.sensors.models import ImuModel
 from imunav.sensors.signals import ImuSignals
+from imunav.strapdown.earth import EarthIntegrator
 from imunav.strapdown.registry import resolve
 
 __all__ = ["SD_COLUMNS", "AidedSystem", "FilterResult", "Innovations", "build_measurements",
@@ -437,7 +475,8 @@ class FilterResult:
     epochs : ndarray of int, shape (E,)
         The covariance epochs (node indices).
     P_nav : ndarray, shape (E, 9, 9)
-        The navigation-error covariance (``φ``, ``δv``, ``δp``) at each epoch (after its update).
+        The navigation-error covariance (``φ``, ``δv``, ``δp``) at each epoch (after its update);
+        on the Earth that of the local NED errors (``δp`` in metres north, east, down).
     innovations : dict
         ``{sensor: Innovations}``.
     estimates : ndarray, shape (E, n − 9)
@@ -573,7 +612,7 @@ def run_filter(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike, p0: np
                aiding: AidingConfig, data: AidingData, *, imu: ImuModel | None = None,
                algorithm: str | None = None, covariance_step: float = 0.1,
                gate: float | None = 0.9999, smooth: bool = False,
-               model: FlatErrorModel = FLAT) -> FilterResult:
+               model: FlatErrorModel | None = None, earth: str = "flat") -> FilterResult:
     """Aided navigation: the error-state Kalman filter (and, with ``smooth``, the RTS smoother).
 
     Parameters
@@ -581,9 +620,10 @@ def run_filter(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike, p0: np
     signals : ImuSignals
         The IMU record (rates or increments).
     q0 : array_like, shape (4,)
-        Initial attitude ``q_nb`` at ``signals.t0``.
+        Initial attitude ``q_nb`` at ``signals.t0`` (on the Earth: relative to local NED).
     v0, p0 : array_like, shape (3,)
-        Initial velocity (m/s) and position (m).
+        Initial velocity (m/s) and position (m), NED; on the Earth the velocity relative to
+        the Earth in local NED and ``p0 = [lat, lon, h]`` (rad, rad, m).
     aiding : AidingConfig
         The aids' noise models (what the filter assumes) and the initial uncertainty; GNSS
         readings inside its ``outages`` are not used.
@@ -600,8 +640,13 @@ def run_filter(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike, p0: np
         Probability of the χ² innovation gate (None: no gate).
     smooth : bool
         Also run the RTS smoother (``result.smoothed``).
-    model : FlatErrorModel
-        The error model.
+    model : FlatErrorModel, optional
+        The error model (default the frame's: ``FLAT`` or ``EARTH``).
+    earth : {"flat", "wgs84"}
+        The navigation frame. On ``"wgs84"`` the GNSS readings are ``[lat, lon, h]`` (rad, rad,
+        m) [and NED velocity relative to the Earth], the barometer's the height above the
+        ellipsoid, the states and standard deviations those of local NED (positions
+        ``[lat, lon, h]``, σ in metres).
 
     Returns
     -------
@@ -617,6 +662,9 @@ def run_filter(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike, p0: np
     if not isinstance(signals, ImuSignals):
         raise ImunavError(f"signals must be ImuSignals, got {type(signals).__name__}")
     check_positive(covariance_step, "covariance_step")
+    if earth not in ("flat", "wgs84"):
+        raise ImunavError(f"earth must be 'flat' or 'wgs84', got {earth!r}", argument="earth")
+    model = model or (EARTH if earth == "wgs84" else FLAT)
     algo = resolve(signals.kind, algorithm)
     q0 = quat_normalize(as_float_array(q0, "q0", ndim=1, last=4), "q0")
     v0 = as_float_array(v0, "v0", ndim=1, last=3)
@@ -639,6 +687,7 @@ def run_filter(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike, p0: np
                          initial=aiding.initial, model=model)
     n = system.n
     warnings = list(system.warnings)
+    E = _Earth(h, t0, q0, v0, p0) if earth == "wgs84" else None
 
     # ---------------------------------------------------------------- the readings
     sched = _Schedule(t0, h, N, algo.align)
@@ -703,9 +752,10 @@ def run_filter(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike, p0: np
     x_hat = np.zeros(n)
     if 0 in sched.at:                                # readings at the very start
         x_hat, P = _updates(sched.at[0], 0, q_nodes, v_nodes, p_nodes, gyro_raw, accel_raw,
-                            s_hat, system, meas, P, gate, logs)
-        q_nodes[0], v_nodes[0], p_nodes[0] = _inject(q_nodes[0], v_nodes[0], p_nodes[0],
-                                                     x_hat[:NAV])
+                            s_hat, system, meas, P, gate, logs, E, t0)
+        q_nodes[0], v_nodes[0], p_nodes[0] = (
+            _inject(q_nodes[0], v_nodes[0], p_nodes[0], x_hat[:NAV]) if E is None
+            else E.correct(t0, x_hat[:NAV]))
         s_hat = s_hat + x_hat[NAV:]
         ep_post[0], ep_est[0] = P[:NAV, :NAV].copy(), s_hat.copy()
     a = 0
@@ -727,17 +777,32 @@ def run_filter(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike, p0: np
             else:
                 aw -= corr
         scale = h if kind == "increments" else 1.0
+        bounds = list(range(a, b, m_cov)) + [b]      # covariance steps a = e0 < … < eK = b
         with np.errstate(all="ignore"):
-            q, v, p = algo.func(gw * scale, aw * scale, h, q_nodes[a], v_nodes[a], p_nodes[a], g,
-                                a - w0, b - a)
-        if not (np.isfinite(q[-1]).all() and np.isfinite(v[-1]).all()
-                and np.isfinite(p[-1]).all()):
+            if E is None:
+                q, v, p = algo.func(gw * scale, aw * scale, h, q_nodes[a], v_nodes[a],
+                                    p_nodes[a], g, a - w0, b - a)
+                ok = (np.isfinite(q[-1]).all() and np.isfinite(v[-1]).all()
+                      and np.isfinite(p[-1]).all())
+            else:
+                qI, vT, loc = E.advance(algo, gw * scale, aw * scale, h, a - w0, b - a)
+                ok = loc is not None
+        if not ok:
             raise ImunavError(f"navigation became non-finite between t = {t_nodes[a]:.9g} and "
                               f"{t_nodes[b]:.9g} s: the signals are too large to integrate")
-        q_nodes[a + 1:b + 1], v_nodes[a + 1:b + 1], p_nodes[a + 1:b + 1] = q[1:], v[1:], p[1:]
-        # covariance steps a = e0 < e1 < … < eK = b
-        bounds = list(range(a, b, m_cov)) + [b]
-        traj, lens = _linearisation(bounds, q_nodes, v_nodes, gw, aw, a - w0, kind, h, g)
+        if E is None:
+            q_nodes[a + 1:b + 1], v_nodes[a + 1:b + 1], p_nodes[a + 1:b + 1] = q[1:], v[1:], p[1:]
+            traj, lens = _linearisation(bounds, q_nodes, v_nodes, gw, aw, a - w0, kind, h, g)
+        else:
+            q_nodes[a + 1:b + 1], v_nodes[a + 1:b + 1], p_nodes[a + 1:b + 1] = loc
+            # in the inertial frame: C_ib, the thrust's mean f_i (g = 0), Γ at the midpoints
+            traj, lens = _linearisation([k - a for k in bounds], qI, vT, gw, aw, a - w0, kind,
+                                        h, 0.0)
+            mid = np.asarray(bounds[:-1]) + np.asarray(lens) // 2
+            r_mid = E.r_inertial(t_nodes[mid], p_nodes[mid])
+            traj = Trajectory(h, traj.t + t_nodes[a] - t0, traj.C, traj.f_n, traj.omega,
+                              traj.f_b, traj.max_rate, traj.max_force, "wgs84",
+                              gravitation_gradient(r_mid))
         P_steps = []
         for lo, hi, L in _groups(lens):
             Phi, Qd = system.discretise(traj.piece(lo, hi), L * h)
@@ -755,9 +820,10 @@ def run_filter(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike, p0: np
         x_hat = np.zeros(n)
         if b in sched.at:
             x_hat, P = _updates(sched.at[b], b, q_nodes, v_nodes, p_nodes, gyro_raw, accel_raw,
-                                s_hat, system, meas, P, gate, logs)
-            q_nodes[b], v_nodes[b], p_nodes[b] = _inject(q_nodes[b], v_nodes[b], p_nodes[b],
-                                                         x_hat[:NAV])
+                                s_hat, system, meas, P, gate, logs, E, t_nodes[b])
+            q_nodes[b], v_nodes[b], p_nodes[b] = (
+                _inject(q_nodes[b], v_nodes[b], p_nodes[b], x_hat[:NAV]) if E is None
+                else E.correct(t_nodes[b], x_hat[:NAV]))
             s_hat = s_hat + x_hat[NAV:]
         ep_idx.append(b)
         ep_prior.append(P_prior[:NAV, :NAV].copy())
@@ -768,14 +834,125 @@ def run_filter(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike, p0: np
         a = b
     ep_idx = np.asarray(ep_idx)
     ep_post, ep_prior = np.asarray(ep_post), np.asarray(ep_prior)
-    states = States(t_nodes, p_nodes, v_nodes, q_nodes, algo.name)
+    M_ep = None
+    if E is not None:                                # inertial errors → local NED ones
+        M_ep = E.output_map(t_nodes[ep_idx], p_nodes[ep_idx], v_nodes[ep_idx])
+        MT = np.swapaxes(M_ep, 1, 2)
+        ep_post, ep_prior = M_ep @ ep_post @ MT, M_ep @ ep_prior @ MT
+    states = States(t_nodes, p_nodes, v_nodes, q_nodes, algo.name, frame=earth)
     sd = _node_sd(ep_idx, ep_post, ep_prior, q_nodes, t_nodes)
     innov = {name: _log(name, rows) for name, rows in logs.items()}
     result = FilterResult(states, sd, ep_idx, ep_post, innov, np.asarray(ep_est), system.layout,
                           warnings=warnings)
     if smooth:
-        result.smoothed = _smooth(result, segs, x_hat, P, system)
+        result.smoothed = _smooth(result, segs, x_hat, P, system, M_ep)
     return result
+
+
+class _Earth:
+    """The navigation side of the filter on the rotating Earth: the inertial state the feedback
+    corrects (an :class:`~imunav.strapdown.earth.EarthIntegrator`), and the map of inertial
+    errors onto local NED ones."""
+
+    def __init__(self, h: float, t0: float, q0, v0, p0):
+        self.t0 = float(t0)
+        self.integ = EarthIntegrator(h, t0, q0, v0, p0)
+
+    def advance(self, algo, gw, aw, h, first, count):
+        """The body-frame algorithm (g = 0, from zero velocity and position) and the Earth
+        integrator over ``count`` intervals: the inertial attitudes and thrust velocities (for
+        the linearisation) and the local states at the new nodes."""
+        zero = np.zeros(3)
+        qI, vT, pT = algo.func(gw, aw, h, self.integ.q_ib, zero, zero, 0.0, first, count)
+        if not (np.isfinite(qI[-1]).all() and np.isfinite(vT[-1]).all()
+                and np.isfinite(pT[-1]).all()):
+            return qI, vT, None
+        return qI, vT, self.integ.advance(qI, vT, pT)
+
+    def local(self, t, q_ib, v_i, r_i):
+        """Inertial states → ``q_nb``, NED velocity relative to the Earth, ``[lat, lon, h]``."""
+        C_ei = np.swapaxes(dcm_ecef_to_inertial(t, self.t0), -1, -2)
+        r_e = np.einsum("...ij,...j->...i", C_ei, r_i)
+        lat, lon, alt = ecef_to_geodetic(r_e)
+        q_in = quat_mul(quat_ecef_to_inertial(t, self.t0), quat_ned_to_ecef(lat, lon))
+        v_rel = v_i - np.cross(np.array([0.0, 0.0, OMEGA_E]), r_i)
+        v_n = quat_rotate(quat_conj(q_in), v_rel)
+        q_nb = quat_mul(quat_conj(q_in), q_ib)
+        return q_nb, v_n, np.stack([lat, lon, alt], axis=-1)
+
+    def state(self, t):
+        """The integrator's inertial state (the current node) and its local form."""
+        ig = self.integ
+        return (ig.q_ib, ig.v, ig.r), self.local(t, ig.q_ib, ig.v, ig.r)
+
+    def correct(self, t, e):
+        """Feed back the inertial error ``e`` (9,) at the current node; its local state."""
+        ig = self.integ
+        q = quat_mul(quat_exp(e[PHI]), ig.q_ib)
+        ig.q_ib = q / np.linalg.norm(q)
+        ig.v = ig.v - e[DV]
+        dr = e[DP]
+        # the gravitation history of the integrator's multistep rule, moved with the position
+        ig.hist = ig.hist - gravitation_gradient(ig.r) @ dr
+        ig.r = ig.r - dr
+        return self.local(t, ig.q_ib, ig.v, ig.r)
+
+    def reading(self, t, inertial, x, omega, dt, est, gyro_input, name, values):
+        """What a measurement class predicts a reading from on the Earth: the state
+        ``inertial = (q_ib, v_i, r_i)`` corrected by the navigation error ``x`` (9,) in local
+        NED, its origin on the ellipsoid below the estimate (a GNSS fix becomes its NED offset
+        from there), the body rate relative to the Earth (an antenna's velocity); and ``M``,
+        which carries the local Jacobian onto the inertial errors.
+
+        Returns
+        -------
+        nav : NavPoint
+        values : ndarray
+            The reading in those coordinates.
+        M : ndarray, shape (9, 9)
+        """
+        q_i, v_i, r_i = inertial
+        qc = quat_mul(quat_exp(x[PHI]), q_i)
+        q, v, lla = self.local(t, qc / np.linalg.norm(qc), v_i - x[DV], r_i - x[DP])
+        w_rel = omega - quat_to_dcm(q).T @ earth_rate_ned(lla[0])
+        nav = NavPoint(q, v, np.array([0.0, 0.0, -lla[2]]), w_rel, dt, est, gyro_input)
+        if name == "gnss":
+            ref = np.array([lla[0], lla[1], 0.0])
+            values = np.concatenate([ned_difference(values[:3], ref), values[3:]])
+        return nav, values, self.output_map(t, lla, v)
+
+    def output_map(self, t, lla, v_n):
+        """``M`` (…, 9, 9): local NED errors ``[φ_n, δv_n, δp_n]`` of the inertial ones."""
+        t = np.asarray(t, dtype=float)
+        lat, lon, alt = lla[..., 0], lla[..., 1], lla[..., 2]
+        C_in = dcm_ecef_to_inertial(t, self.t0) @ dcm_ned_to_ecef(lat, lon)
+        C_ni = np.swapaxes(C_in, -1, -2)
+        K = curvature_matrix(lat, alt) @ C_ni
+        M = np.zeros(np.shape(lat) + (NAV, NAV))
+        M[..., PHI, PHI] = C_ni
+        M[..., PHI, DP] = K
+        M[..., DV, DV] = C_ni
+        M[..., DV, DP] = -C_ni @ skew(np.array([0.0, 0.0, OMEGA_E])) + skew(v_n) @ K
+        M[..., DP, DP] = C_ni
+        return M
+
+    def r_inertial(self, t, lla):
+        """Inertial positions of ``[lat, lon, h]`` at times ``t``."""
+        r_e = geodetic_to_ecef(lla[..., 0], lla[..., 1], lla[..., 2])
+        return np.einsum("...ij,...j->...i", dcm_ecef_to_inertial(t, self.t0), r_e)
+
+
+def _inject_local(q, v, lla, e):
+    """Local states ``q_nb``, NED velocity, ``[lat, lon, h]`` corrected by the local NED error
+    ``e`` (…, 9) (``δp`` in metres)."""
+    q = quat_mul(quat_exp(e[..., PHI]), q)
+    rn, re = radii(lla[..., 0])
+    dp = e[..., DP]
+    out = lla.copy()
+    out[..., 0] = lla[..., 0] - dp[..., 0] / (rn + lla[..., 2])
+    out[..., 1] = lla[..., 1] - dp[..., 1] / ((re + lla[..., 2]) * np.cos(lla[..., 0]))
+    out[..., 2] = lla[..., 2] + dp[..., 2]
+    return q / np.linalg.norm(q, axis=-1, keepdims=True), v - e[..., DV], out
 
 
 def _groups(lens: list[int]) -> list[tuple[int, int, int]]:
@@ -821,8 +998,10 @@ def _linearisation(bounds, q_nodes, v_nodes, gw, aw, off, kind, h, g
 
 
 def _updates(readings, k, q_nodes, v_nodes, p_nodes, gyro_raw, accel_raw, s_hat, system,
-             meas, P, gate, logs):
-    """Every reading at node ``k``, one after another; returns the correction and ``P``."""
+             meas, P, gate, logs, earth=None, t=0.0):
+    """Every reading at node ``k``, one after another; returns the correction and ``P``.
+    On the Earth (``earth`` the :class:`_Earth` at node ``k``, time ``t``) each reading is
+    predicted in local NED at the estimate and ``H`` carried onto the inertial errors."""
     n = system.n
     est = np.concatenate([np.zeros(NAV), s_hat])
     i = min(k, gyro_raw.shape[0] - 1)
@@ -831,15 +1010,24 @@ def _updates(readings, k, q_nodes, v_nodes, p_nodes, gyro_raw, accel_raw, s_hat,
     Mg = system.triad_input("gyro", u, f)[0]
     omega = u[0] - Mg[:, NAV:] @ s_hat
     x = np.zeros(n)
-    for name, values, dt, t in readings:
+    if earth is not None:
+        (q_i, v_i, r_i), _ = earth.state(t)
+    for name, values, dt, t_read in readings:
         m = meas[name]
-        qk, vk, pk = _inject(q_nodes[k], v_nodes[k], p_nodes[k], x[:NAV])
-        nav = NavPoint(qk, vk, pk, omega, dt, est + np.concatenate([np.zeros(NAV), x[NAV:]]), Mg)
+        est_x = est + np.concatenate([np.zeros(NAV), x[NAV:]])
+        if earth is None:
+            qk, vk, pk = _inject(q_nodes[k], v_nodes[k], p_nodes[k], x[:NAV])
+            nav = NavPoint(qk, vk, pk, omega, dt, est_x, Mg)
+        else:
+            nav, values, M = earth.reading(t, (q_i, v_i, r_i), x[:NAV], omega, dt, est_x, Mg,
+                                           name, values)
         z = m.residual(m.predict(nav), values)
         H = m.jacobian(nav)
+        if earth is not None:
+            H[:, :NAV] = H[:, :NAV] @ M
         # the state already holds x: the innovation is taken about the corrected state
         up = update(x, P, z + H @ x, H, m.noise(), gate=gate)
-        logs[name].append((t, up.innovation, up.S, up.nis, up.accepted))
+        logs[name].append((t_read, up.innovation, up.S, up.nis, up.accepted))
         x, P = up.x, up.P
     return x, P
 
@@ -868,8 +1056,10 @@ def _node_sd(ep_idx, ep_post, ep_prior, q_nodes, t_nodes) -> FloatArray:
     return np.sqrt(out)
 
 
-def _smooth(res: FilterResult, segs, x_last, P_last, system: AidedSystem) -> FilterResult:
-    """The RTS backward pass over the stored segments (see the module docstring)."""
+def _smooth(res: FilterResult, segs, x_last, P_last, system: AidedSystem, M_ep=None
+            ) -> FilterResult:
+    """The RTS backward pass over the stored segments (see the module docstring); on the
+    Earth ``M_ep`` (E, 9, 9) maps each epoch's inertial errors onto local NED ones."""
     xs, Ps = x_last.copy(), P_last.copy()              # at the last node: smoothed = filtered
     n_ep = res.epochs.size
     err = np.zeros((n_ep, NAV))                         # smoothed error of the corrected state
@@ -899,6 +1089,10 @@ def _smooth(res: FilterResult, segs, x_last, P_last, system: AidedSystem) -> Fil
             err_prior[j] = xs[:NAV]
             err[j] = xs[:NAV] - x_f[:NAV]
             P_s[j] = Ps[:NAV, :NAV]
+    if M_ep is not None:
+        err = np.einsum("nij,nj->ni", M_ep, err)
+        err_prior = np.einsum("nij,nj->ni", M_ep, err_prior)
+        P_s = M_ep @ P_s @ np.swapaxes(M_ep, 1, 2)
     states = res.states
     q, v, p = states.quaternion.copy(), states.velocity.copy(), states.position.copy()
     t = states.t
@@ -914,8 +1108,9 @@ def _smooth(res: FilterResult, segs, x_last, P_last, system: AidedSystem) -> Fil
             w = ((t[a + 1:b] - t[a]) / (t[b] - t[a]))[:, None]
             e_nodes[a + 1:b] = (1 - w) * err[k] + w * err_prior[k + 1]
             var_nodes[a + 1:b] = (1 - w) * var_ep[k] + w * var_ep[k + 1]
-    q, v, p = _inject(q, v, p, e_nodes)
-    sm = States(t, p, v, q, states.algorithm)
+    q, v, p = (_inject(q, v, p, e_nodes) if M_ep is None else
+               _inject_local(q, v, p, e_nodes))
+    sm = States(t, p, v, q, states.algorithm, frame=states.frame)
     return FilterResult(sm, np.sqrt(var_nodes), ep, P_s, res.innovations, res.estimates,
                         res.layout, warnings=res.warnings)
 

@@ -4,13 +4,17 @@
 file       header (exactly)                             units
 ========== ============================================ =============================
 gnss.csv   ``t,x,y,z,vx,vy,vz`` or ``t,x,y,z`` (flat)   s, m (NED), m/s
-baro.csv   ``t,alt``                                    s, m (altitude, ``−z``)
+gnss.csv   ``t,lat,lon,alt,vn,ve,vd`` or ``t,lat,lon,alt``  s, deg, deg, m, m/s (wgs84)
+baro.csv   ``t,alt``                                    s, m (altitude: ``−z``, or the
+                                                        height above the ellipsoid)
 heading.csv ``t,yaw``                                   s, rad
 nhc.csv    ``t,vy,vz``                                  s, m/s (the constraint readings)
 zupt.csv   ``t0,t1``                                    s (stance intervals)
 ========== ============================================ =============================
 
-A file without velocity (``t,x,y,z``) is written when the GNSS has no ``velocity_sigma``. On
+On the WGS-84 Earth latitude and longitude are in degrees in the file (radians in
+:class:`~imunav.sensors.aiding.Readings`), the velocity relative to the Earth in local NED. A
+file without velocity (``t,x,y,z``) is written when the GNSS has no ``velocity_sigma``. On
 reading, every value must be a finite number, times strictly increasing (stance intervals with
 ``t0 ≤ t1``, in order, not overlapping); a bad file is one :class:`ImunavError` naming the file
 and its line (a file with a header and no rows has no readings: a record inside an outage).
@@ -32,7 +36,9 @@ from imunav.sensors.aiding import AidingData, Readings
 __all__ = ["AIDING_FILES", "GNSS_HEADERS", "check_span", "read_aiding", "write_aiding"]
 
 #: The headers of ``gnss.csv``: with and without velocity (flat frame).
-GNSS_HEADERS = {"flat": (("t", "x", "y", "z", "vx", "vy", "vz"), ("t", "x", "y", "z"))}
+GNSS_HEADERS = {"flat": (("t", "x", "y", "z", "vx", "vy", "vz"), ("t", "x", "y", "z")),
+                "wgs84": (("t", "lat", "lon", "alt", "vn", "ve", "vd"),
+                          ("t", "lat", "lon", "alt"))}
 
 #: Each file and its header (GNSS: see :data:`GNSS_HEADERS`).
 AIDING_FILES = {"gnss": ("gnss.csv", None), "baro": ("baro.csv", ("t", "alt")),
@@ -77,8 +83,9 @@ def read_aiding(folder: str | Path, sensors, frame: str = "flat") -> AidingData:
     sensors : iterable of str
         The aids to read (``gnss``, ``baro``, ``heading``, ``zupt``; ``nhc`` is read only if its
         file exists, else the filter applies the constraint itself).
-    frame : {"flat"}
-        The frame of the GNSS file.
+    frame : {"flat", "wgs84"}
+        The frame of the GNSS file (wgs84: latitude and longitude in degrees, converted to
+        radians).
 
     Returns
     -------
@@ -88,8 +95,12 @@ def read_aiding(folder: str | Path, sensors, frame: str = "flat") -> AidingData:
     ------
     ImunavError
         For a missing folder or file, a wrong header, a value that is not a finite number,
-        times not strictly increasing, or stance intervals with ``t1 < t0`` or overlapping.
+        times not strictly increasing, stance intervals with ``t1 < t0`` or overlapping, or
+        (wgs84) a latitude outside ±90°.
     """
+    if frame not in GNSS_HEADERS:
+        raise ImunavError(f"frame must be one of {tuple(GNSS_HEADERS)}, got {frame!r}",
+                          argument="frame")
     folder = Path(folder)
     if not folder.is_dir():
         raise ImunavError(f"measurements folder not found: {folder}", argument="measurements")
@@ -107,8 +118,10 @@ def read_aiding(folder: str | Path, sensors, frame: str = "flat") -> AidingData:
         if name == "gnss":
             allowed = GNSS_HEADERS[frame]
             if got not in allowed:
+                other = [f for f, hs in GNSS_HEADERS.items() if got in hs]
+                hint = (f" (a {other[0]} file: the filter's frame is {frame})" if other else "")
                 raise ImunavError(f"{path}: unrecognised header {','.join(got)!r}; expected "
-                                  + " or ".join(repr(",".join(h)) for h in allowed))
+                                  + " or ".join(repr(",".join(h)) for h in allowed) + hint)
             header = got
         elif got != header:
             raise ImunavError(f"{path}: unrecognised header {','.join(got)!r}; expected "
@@ -130,7 +143,16 @@ def read_aiding(folder: str | Path, sensors, frame: str = "flat") -> AidingData:
             out.zupt = data
         else:
             _check_times(path, data[:, 0])
-            setattr(out, name, Readings(data[:, 0], data[:, 1:]))
+            values = data[:, 1:]
+            if name == "gnss" and frame == "wgs84":
+                bad = np.abs(values[:, 0]) > 90.0
+                if bad.any():
+                    i = int(np.argmax(bad))
+                    raise ImunavError(f"{path}, line {_line_of(path, i)}: lat = "
+                                      f"{values[i, 0]:.9g}° is outside ±90°")
+                values = values.copy()
+                values[:, :2] = np.radians(values[:, :2])
+            setattr(out, name, Readings(data[:, 0], values))
     return out
 
 
@@ -165,19 +187,29 @@ def check_span(folder: str | Path, data: AidingData, t_start: float, t_end: floa
                               f"outside the IMU record ({t_start:.9g} … {t_end:.9g} s)")
 
 
-def write_aiding(folder: str | Path, data: AidingData) -> list[Path]:
+def write_aiding(folder: str | Path, data: AidingData, frame: str = "flat") -> list[Path]:
     """Write each sensor's readings of ``data`` to its file in ``folder`` (created if absent).
 
     Parameters
     ----------
     folder : str or Path
     data : AidingData
+    frame : {"flat", "wgs84"}
+        The frame of the GNSS readings (wgs84: latitude and longitude written in degrees).
 
     Returns
     -------
     list of Path
         The files written.
+
+    Raises
+    ------
+    ImunavError
+        For another ``frame``.
     """
+    if frame not in GNSS_HEADERS:
+        raise ImunavError(f"frame must be one of {tuple(GNSS_HEADERS)}, got {frame!r}",
+                          argument="frame")
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     written = []
@@ -188,9 +220,13 @@ def write_aiding(folder: str | Path, data: AidingData) -> list[Path]:
         if name == "zupt":
             cols = [r[:, 0], r[:, 1]]
         else:
+            vals = r.values
             if name == "gnss":
-                header = GNSS_HEADERS["flat"][0 if r.values.shape[1] == 6 else 1]
-            cols = [r.t] + [r.values[:, j] for j in range(r.values.shape[1])]
+                header = GNSS_HEADERS[frame][0 if vals.shape[1] == 6 else 1]
+                if frame == "wgs84":
+                    vals = vals.copy()
+                    vals[:, :2] = np.degrees(vals[:, :2])
+            cols = [r.t] + [vals[:, j] for j in range(vals.shape[1])]
         path = folder / fname
         with CsvWriter(path, header) as w:
             w.write(cols)

@@ -27,7 +27,12 @@ of NHC (0 plus the slip the constraint's sigma stands for), and the true stance 
 (``SeedSequence(seed, spawn_key=(AIDING_STREAM, run)).spawn(5)``: GNSS, baro, heading, NHC,
 ZUPT), apart from the IMU's, so a run is reproducible and adding a sensor changes no other.
 
-May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors.signals``.
+On the rotating Earth (an :class:`~imunav.motion.geodetic.EarthMotion`) the same errors are
+drawn in the local NED frame: GNSS ``[lat, lon, h]`` (rad, rad, m) of the antenna with its NED
+position errors, its velocity relative to the Earth in local NED; the barometer the height above
+the ellipsoid; the heading the yaw relative to local north.
+
+May import: ``imunav.core``, ``imunav.earth``, ``imunav.motion``, ``imunav.sensors.signals``.
 """
 
 from __future__ import annotations
@@ -42,8 +47,9 @@ from numpy.lib.stride_tricks import sliding_window_view
 
 from imunav.core import units as U
 from imunav.core.constants import DEG, G0
-from imunav.core.kernels import FloatArray, cross, quat_rotate, quat_to_dcm
+from imunav.core.kernels import FloatArray, cross, quat_conj, quat_rotate, quat_to_dcm
 from imunav.core.validation import ImunavError, read_toml, show
+from imunav.earth import dcm_ned_to_ecef, earth_rate_ned, ecef_to_geodetic, geodetic_to_ecef
 from imunav.motion.base import BaseMotion
 
 __all__ = ["AIDING_STREAM", "SECTIONS", "SHOE_SIGMA_A", "SHOE_SIGMA_G", "AidingConfig",
@@ -595,8 +601,11 @@ def simulate_aiding(motion: BaseMotion, config: AidingConfig, duration: float, *
     Returns
     -------
     AidingData
-        In the flat frame: GNSS ``x, y, z`` (m, NED) and velocity; baro altitude ``−z``.
+        In the flat frame: GNSS ``x, y, z`` (m, NED) and velocity; baro altitude ``−z``. On
+        the Earth (``motion.frame == "wgs84"``): GNSS ``lat, lon, h`` (rad, rad, m) and NED
+        velocity relative to the Earth; baro the height above the ellipsoid.
     """
+    earth = getattr(motion, "frame", "flat") == "wgs84"
     rg, rb, rh, rn, _ = aiding_streams(seed, run)
     out = AidingData()
     if config.gnss is not None:
@@ -604,7 +613,10 @@ def simulate_aiding(motion: BaseMotion, config: AidingConfig, duration: float, *
         t = _times(c.rate, duration, t0)
         q = motion.attitude(t)
         lever = np.asarray(c.lever_arm)
-        pos = motion.position(t) + quat_rotate(q, np.broadcast_to(lever, (t.size, 3)))
+        arm = quat_rotate(q, np.broadcast_to(lever, (t.size, 3)))         # NED
+        pos = motion.position(t)
+        if not earth:
+            pos = pos + arm
         white = rg.normal(0.0, c.position_sigma, (t.size, 3))
         corr = np.zeros((t.size, 3))
         if c.correlated_sigma > 0 and t.size:
@@ -614,9 +626,17 @@ def simulate_aiding(motion: BaseMotion, config: AidingConfig, duration: float, *
                 a = math.exp(-dt / c.correlation_time)
                 e = a * e + math.sqrt(1 - a * a) * c.correlated_sigma * rg.normal(0.0, 1.0, 3)
                 corr[i] = e
-        vals = [pos + white + corr]
+        if earth:                     # the antenna and its NED errors, exactly on the ellipsoid
+            C_en = dcm_ned_to_ecef(pos[:, 0], pos[:, 1])
+            r = geodetic_to_ecef(pos[:, 0], pos[:, 1], pos[:, 2])
+            r = r + np.einsum("nij,nj->ni", C_en, arm + white + corr)
+            vals = [np.stack(ecef_to_geodetic(r), axis=-1)]
+        else:
+            vals = [pos + white + corr]
         if c.velocity_sigma is not None:
             w = motion.angular_rate(t)
+            if earth:                 # the body rate relative to the Earth
+                w = w - quat_rotate(quat_conj(q), earth_rate_ned(pos[:, 0]))
             vel = motion.velocity(t) + quat_rotate(q, cross(w, np.broadcast_to(lever, w.shape)))
             vals.append(vel + rg.normal(0.0, c.velocity_sigma, (t.size, 3)))
         keep = ~c.in_outage(t)
@@ -626,7 +646,8 @@ def simulate_aiding(motion: BaseMotion, config: AidingConfig, duration: float, *
         t = _times(c.rate, duration, t0)
         dts = np.diff(np.concatenate([[t0], t]))
         bias = np.cumsum(rb.normal(0.0, 1.0, t.size) * c.bias_drift * np.sqrt(dts))
-        alt = -motion.position(t)[:, 2] + bias + rb.normal(0.0, c.sigma, t.size)
+        alt = ((motion.position(t)[:, 2] if earth else -motion.position(t)[:, 2]) + bias
+               + rb.normal(0.0, c.sigma, t.size))
         out.baro = Readings(t, alt[:, None])
     if config.heading is not None:
         c = config.heading
