@@ -115,14 +115,21 @@ def test_verdict_record_in_full():
     pos = [[(r + 1) * k / (n - 1) for k in range(n)] for r in range(20)]
     mc = _mc(pos, rate=2.0)
     r = A.verdict(mc, 30.0, {}, None)
+    # 20 runs all within: the Clopper–Pearson interval is [0.025^(1/20), 1] ∋ 95 % — warned
+    lo = 0.025 ** (1 / 20)
     assert r == {**r, "motion": "motion", "imu": "imu", "seed": 0, "rate_hz": 2.0,
-                 "tolerance_m": 30.0, "runs": 20, "method": "montecarlo", "warnings": [],
+                 "tolerance_m": 30.0, "runs": 20, "method": "montecarlo",
+                 "warnings": [f"20 runs cannot support a 95 % verdict: the fraction of runs "
+                              f"within 30 m is between {100 * lo:.1f} % and 100.0 % (95 % "
+                              "confidence, Clopper–Pearson); at least 72 runs are needed, more "
+                              "when some exceed"],
                  "min_rate_hz": None, "saturated_runs": 0, "error_budget": {},
                  "time_p95_exceeds_s": None, "suitable": True, "fraction_within_tolerance": 1.0}
+    assert r["fraction_ci95"] == pytest.approx([lo, 1.0], rel=1e-12)
     assert set(r) == {"motion", "imu", "rate_hz", "tolerance_m", "runs", "seed",
-                      "fraction_within_tolerance", "suitable", "time_p95_exceeds_s",
-                      "final_p95_position_m", "error_budget", "min_rate_hz", "saturated_runs",
-                      "method", "warnings", "envelope"}
+                      "fraction_within_tolerance", "fraction_ci95", "suitable",
+                      "time_p95_exceeds_s", "final_p95_position_m", "error_budget",
+                      "min_rate_hz", "saturated_runs", "method", "warnings", "envelope"}
     env = r["envelope"]
     assert set(env) == {"t", "position_p95_m", "attitude_p95_rad"}
     k = np.arange(0, n, 2)

@@ -9,6 +9,7 @@ May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``, ``imunav.str
 from __future__ import annotations
 
 import numpy as np
+from scipy.stats import beta
 
 from imunav.analysis.covariance import (
     ENVELOPE_POINTS,
@@ -19,7 +20,7 @@ from imunav.analysis.covariance import (
 )
 from imunav.analysis.metrics import nav_errors
 from imunav.analysis.montecarlo import MonteCarloResult, monte_carlo
-from imunav.core.validation import check_positive
+from imunav.core.validation import ImunavError, check_positive
 from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import ImuModel, TriadModel
 from imunav.sensors.simulate import signal_chunks
@@ -87,6 +88,35 @@ def min_sample_rate(motion: BaseMotion, tolerance: float, duration: float | None
     return None
 
 
+#: The confidence of the interval on a Monte Carlo fraction (:func:`runs_interval`).
+CONFIDENCE = 0.95
+
+#: Fewest runs whose interval can clear :data:`SUITABLE_FRACTION` (all of them within):
+#: ``(1 − CONFIDENCE)/2 ≥ SUITABLE_FRACTION ** runs``.
+MIN_RUNS = int(np.ceil(np.log((1 - CONFIDENCE) / 2) / np.log(SUITABLE_FRACTION)))
+
+
+def runs_interval(inside: int, runs: int, confidence: float = CONFIDENCE) -> tuple[float, float]:
+    """The Clopper–Pearson interval of a fraction of runs: exact (conservative) for ``inside``
+    successes in ``runs`` Bernoulli trials.
+
+    Parameters
+    ----------
+    inside, runs : int
+        Runs within the tolerance, and all runs (≥ 1).
+    confidence : float
+        Two-sided.
+
+    Returns
+    -------
+    lo, hi : float
+    """
+    a = (1 - confidence) / 2
+    lo = 0.0 if inside == 0 else float(beta.ppf(a, inside, runs - inside + 1))
+    hi = 1.0 if inside == runs else float(beta.ppf(1 - a, inside + 1, runs - inside))
+    return lo, hi
+
+
 def verdict(mc: MonteCarloResult, tolerance: float, budget: dict[str, MonteCarloResult],
             min_rate: float | None, *, motion: str = "motion", imu: str = "imu",
             seed: int = 0) -> dict:
@@ -96,7 +126,16 @@ def verdict(mc: MonteCarloResult, tolerance: float, budget: dict[str, MonteCarlo
     :func:`format_verdict` prints and ``imunav assess --json`` writes.
     """
     tolerance = check_positive(tolerance, "tolerance")
-    within = float(np.mean(mc.position.max(axis=1) <= tolerance))
+    inside = int(np.sum(mc.position.max(axis=1) <= tolerance))
+    within = inside / mc.runs
+    lo, hi = runs_interval(inside, mc.runs)
+    warnings = []
+    if lo < SUITABLE_FRACTION <= hi:
+        warnings.append(
+            f"{mc.runs} runs cannot support a {100 * SUITABLE_FRACTION:g} % verdict: the fraction "
+            f"of runs within {tolerance:g} m is between {100 * lo:.1f} % and {100 * hi:.1f} % "
+            f"({100 * CONFIDENCE:g} % confidence, Clopper–Pearson); at least {MIN_RUNS} runs "
+            "are needed, more when some exceed")
     env = np.percentile(mc.position, PERCENTILE, axis=0)
     over = np.nonzero(env > tolerance)[0]
     terms = {k: float(np.percentile(b.position[:, -1], PERCENTILE)) for k, b in budget.items()}
@@ -105,6 +144,7 @@ def verdict(mc: MonteCarloResult, tolerance: float, budget: dict[str, MonteCarlo
         "motion": motion, "imu": imu, "rate_hz": float(mc.rate), "tolerance_m": tolerance,
         "runs": mc.runs, "seed": seed,
         "fraction_within_tolerance": within,
+        "fraction_ci95": [lo, hi],
         "suitable": within >= SUITABLE_FRACTION,
         "time_p95_exceeds_s": float(mc.t[over[0]]) if over.size else None,
         "final_p95_position_m": float(env[-1]),
@@ -112,7 +152,7 @@ def verdict(mc: MonteCarloResult, tolerance: float, budget: dict[str, MonteCarlo
         "min_rate_hz": min_rate,
         "saturated_runs": int(np.sum(mc.saturated > 0)),
         "method": "montecarlo",
-        "warnings": [],
+        "warnings": warnings,
         "envelope": {"t": mc.t[idx].tolist(),
                      "position_p95_m": np.percentile(mc.position[:, idx], PERCENTILE,
                                                      axis=0).tolist(),
@@ -148,6 +188,7 @@ def verdict_covariance(cov: CovarianceResult | CovarianceSummary, tolerance: flo
         "motion": motion, "imu": imu, "rate_hz": cov.rate, "tolerance_m": tolerance,
         "method": "covariance", "runs": None, "seed": None,
         "fraction_within_tolerance": within,
+        "fraction_ci95": None,
         "suitable": within >= SUITABLE_FRACTION,
         "time_p95_exceeds_s": None if first_over is None else cov.time_at(first_over),
         "final_p95_position_m": float(env_p[-1]),
@@ -208,17 +249,72 @@ def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, toleranc
     return r
 
 
-def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int, tolerance: float,
-           seed: int = 0, duration: float | None = None, output: str = "increments",
-           budget_runs: int | None = None, scheduler: str | None = None,
-           progress: bool = True) -> dict:
-    """The applicability verdict: the numbers of ``imunav assess`` (see :func:`verdict` and
-    :func:`format_verdict`).
+#: The methods of :func:`assess`.
+METHODS = ("covariance", "montecarlo")
 
-    ``error_budget``: each error term alone (same seed, ``budget_runs`` runs, default
-    min(runs, 200)) → final 95th-percentile position error (m).
+
+def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int | None = None,
+           tolerance: float | None = None, seed: int = 0, duration: float | None = None,
+           output: str = "increments", budget_runs: int | None = None,
+           scheduler: str | None = None, progress: bool = True,
+           method: str | None = None) -> dict:
+    """The applicability verdict: the numbers of ``imunav assess`` (see :func:`verdict`,
+    :func:`verdict_covariance` and :func:`format_verdict`), by either method, as the command
+    line chooses it.
+
+    Parameters
+    ----------
+    motion : BaseMotion
+    model : ImuModel
+    rate : float
+        Output rate (Hz).
+    runs : int, optional
+        Monte Carlo runs.
+    tolerance : float
+        Position tolerance (m), > 0.
+    seed : int
+        Monte Carlo seed.
+    duration : float, optional
+        Seconds; default the motion's own.
+    output : {"increments", "rates"}
+    budget_runs : int, optional
+        Monte Carlo runs of each term alone for the error budget (default min(runs, 200)).
+    scheduler : str, optional
+        A Dask scheduler address for the Monte Carlo.
+    progress : bool
+        Progress bars on long runs.
+    method : {"covariance", "montecarlo"}, optional
+        Default: Monte Carlo when ``runs`` is given, else linear covariance analysis
+        (:func:`assess_covariance`).
+
+    Returns
+    -------
+    dict
+        The verdict; ``error_budget`` is each term alone → its final 95th-percentile position
+        error (m).
+
+    Raises
+    ------
+    ImunavError
+        For a bad tolerance or method, ``runs`` or ``scheduler`` with the covariance method, or
+        the Monte Carlo method without ``runs``.
     """
+    method = method or ("montecarlo" if runs is not None else "covariance")
+    if method not in METHODS:
+        raise ImunavError(f"method must be one of {', '.join(METHODS)}, got {method!r}",
+                          argument="method")
     tolerance = check_positive(tolerance, "tolerance")
+    if method == "covariance":
+        for name, value in (("runs", runs), ("scheduler", scheduler),
+                            ("budget_runs", budget_runs)):
+            if value is not None:
+                raise ImunavError(f"{name} applies to the Monte Carlo method only "
+                                  "(method 'montecarlo')", argument=name)
+        return assess_covariance(motion, model, rate, tolerance, duration, output,
+                                 progress=progress)
+    if runs is None:
+        raise ImunavError("runs is required for the Monte Carlo method (method 'montecarlo')",
+                          argument="runs")
     mc = monte_carlo(motion, model, rate, duration, runs, seed, output, scheduler=scheduler,
                      progress=progress)
     br = budget_runs or min(runs, 200)

@@ -35,7 +35,14 @@ from imunav.core.resources import check_memory
 from imunav.core.rotations import FloatArray
 from imunav.core.states import States
 from imunav.core.validation import ImunavError, check_gravity, check_positive, read_toml
-from imunav.io.csvio import CsvWriter, atomic_write_text, first_row, read_chunks, read_header
+from imunav.io.csvio import (
+    CsvWriter,
+    OutputFile,
+    atomic_write_text,
+    first_row,
+    read_chunks,
+    read_header,
+)
 from imunav.motion.analytic import Motion
 from imunav.motion.base import BaseMotion
 from imunav.motion.trajectory import ORIENTATIONS, PoseMotion, WaypointMotion
@@ -378,16 +385,37 @@ def write_text(path: str | Path, text: str) -> None:
 
 
 def save_figure(fig, path: str | Path, **kw) -> None:
-    """``fig.savefig`` through a temporary file renamed at the end (format from the suffix)."""
-    import os
-    import tempfile
-
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix or ".png",
-                               dir=path.parent)
-    os.close(fd)
+    """``fig.savefig`` as :class:`~imunav.io.csvio.OutputFile` writes (a regular file through a
+    temporary file renamed at the end; a device or FIFO directly); the format from the suffix
+    (:func:`figure_format`)."""
+    out = OutputFile(path)
     try:
-        fig.savefig(tmp, **kw)
-        os.replace(tmp, path)
-    finally:
-        Path(tmp).unlink(missing_ok=True)
+        fig.savefig(out.fh, format=figure_format(path), **kw)
+    except BaseException:
+        out.abort()
+        raise
+    out.commit()
+
+
+def figure_format(path: str | Path, what: str = "figure") -> str:
+    """The image format of a figure path, from its suffix (``png`` without one), or an
+    ImunavError naming the formats matplotlib writes — checked before any work is done.
+
+    Parameters
+    ----------
+    path : str or Path
+    what : str
+        The option that names it, for the message.
+
+    Returns
+    -------
+    str
+    """
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    fmt = Path(path).suffix.lower().lstrip(".") or "png"
+    known = FigureCanvasBase.get_supported_filetypes()
+    if fmt not in known:
+        raise ImunavError(f"{what} {path}: unknown image format {fmt!r}; use one of "
+                          + ", ".join(sorted(known)))
+    return fmt

@@ -1,0 +1,225 @@
+"""The command line, safe by construction, round 2 (issue 25): outputs that are links, devices or
+FIFOs; the allan command's crashes and its static check; exit statuses (--check, internal
+errors, --version); messages that named the wrong thing."""
+
+import os
+import stat
+import subprocess
+import sys
+import threading
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from imunav.cli import main
+
+MOTION = 'duration = 2.0\n[position]\nx = "0.5*t**2"\n[attitude]\nyaw = "0.3*t"\n'
+
+
+def _one_error(capsys) -> str:
+    err = capsys.readouterr().err
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert len(lines) == 1 and lines[0].startswith("imunav: error: "), err
+    return lines[0]
+
+
+@pytest.fixture
+def folder(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    Path("m.toml").write_text(MOTION)
+    return tmp_path
+
+
+def _simulate(out, *more):
+    return main(["simulate", "m.toml", "--rate", "20", "--out", str(out), *more])
+
+
+# ---------------------------------------------------------------- 1. links, devices, FIFOs
+
+
+def test_an_output_through_a_symbolic_link_writes_its_target_and_keeps_the_link(folder, capsys):
+    Path("real.csv").write_text("old\n")
+    os.symlink("real.csv", "link.csv")
+    os.symlink("missing.csv", "dangling.csv")
+    assert _simulate("link.csv", "--truth", "dangling.csv") == 0
+    assert Path("link.csv").is_symlink() and os.readlink("link.csv") == "real.csv"
+    assert Path("real.csv").read_text().startswith("t,gx,gy,gz,ax,ay,az\n")
+    assert Path("dangling.csv").is_symlink() and Path("missing.csv").is_file()
+    assert Path("missing.csv").read_text().startswith("t,x,y,z,")
+    assert not list(folder.glob(".*imunav-tmp"))
+
+
+@pytest.mark.skipif(os.geteuid() != 0, reason="making a device node needs root")
+@pytest.mark.parametrize("minor, code", [(3, 0), (7, 2)], ids=["null", "full"])
+def test_a_device_output_is_written_through_never_replaced(folder, capsys, minor, code):
+    """A copy of /dev/null (1, 3) and of /dev/full (1, 7) in the test folder: as root the old
+    rename replaced the device by a regular file (it did so to /dev/null itself)."""
+    os.mknod("dev", stat.S_IFCHR | 0o666, os.makedev(1, minor))
+    assert _simulate("dev") == code
+    assert stat.S_ISCHR(os.stat("dev").st_mode)
+    if code:
+        assert "could not write dev (No space left on device)" in _one_error(capsys)
+    assert not list(folder.glob(".*imunav-tmp"))
+
+
+def test_a_fifo_output_is_written_through_to_its_reader(folder, capsys):
+    os.mkfifo("pipe")
+    got = []
+    reader = threading.Thread(target=lambda: got.append(Path("pipe").read_bytes()), daemon=True)
+    reader.start()
+    try:
+        assert _simulate("pipe") == 0
+    finally:
+        reader.join(timeout=30)
+    assert stat.S_ISFIFO(os.stat("pipe").st_mode)
+    assert got and got[0].startswith(b"t,gx,gy,gz,ax,ay,az\n") and got[0].count(b"\n") == 42
+
+
+def test_a_fifo_without_a_reader_is_refused_without_waiting(folder, capsys):
+    os.mkfifo("pipe")
+    assert _simulate("pipe") == 2
+    assert _one_error(capsys) == "imunav: error: cannot write pipe (a FIFO no process reads)"
+    assert stat.S_ISFIFO(os.stat("pipe").st_mode)
+
+
+def test_out_to_stdout_streams_the_data_and_reports_on_stderr(folder):
+    run = subprocess.run([sys.executable, "-m", "imunav", "simulate", "m.toml", "--rate", "20",
+                          "--out", "/dev/stdout"], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    lines = run.stdout.splitlines()
+    assert lines[0] == "t,gx,gy,gz,ax,ay,az" and len(lines) == 42
+    assert "wrote 41 rates rows" in run.stderr and "disk" not in run.stderr
+
+
+# ------------------------------------------------------------------------------- allan
+
+
+def _static_log(path, n=3000, rate=50.0, gyro=None, seed=1):
+    rng = np.random.default_rng(seed)
+    t = np.arange(n) / rate
+    g = rng.normal(0, 1e-3, (n, 3)) if gyro is None else gyro(t)
+    a = rng.normal(0, 1e-2, (n, 3)) + [0, 0, -9.80665]
+    np.savetxt(path, np.column_stack([t, g, a]), delimiter=",", comments="",
+               header="t,gx,gy,gz,ax,ay,az")
+
+
+def test_allan_on_a_log_whose_gyro_is_all_zero_does_not_crash(folder):
+    """2. It aborted the interpreter (free(): double free, exit 134): nnls got infinite
+    weights from the zero Allan variance. Run in a subprocess, so a crash fails the test."""
+    _static_log("zero.csv", gyro=lambda t: np.zeros((t.size, 3)))
+    run = subprocess.run([sys.executable, "-m", "imunav", "allan", "zero.csv", "--fit",
+                          "fit.toml"], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert "constant on every axis" in run.stdout
+    fitted = Path("fit.toml").read_text()
+    assert "# noise_density: not determined — the record is constant on every axis" in fitted
+    from imunav.sensors.models import ImuModel
+
+    m = ImuModel.from_toml("fit.toml")
+    assert m.gyro.noise_density == 0 and m.accel.noise_density > 0
+
+
+def test_allan_generic_format_reads_the_named_columns(folder, capsys):
+    """3. `--format generic` always failed ('Namespace' object has no attribute 'signals')."""
+    rng = np.random.default_rng(2)
+    n = 3000
+    t = np.arange(n) * 20.0                                     # ms
+    data = np.column_stack([t, rng.normal(0, 0.05, (n, 3)),     # deg/s
+                            rng.normal(0, 1e-3, (n, 3)) + [0, 0, -1]])  # g
+    np.savetxt("rec.csv", data, delimiter=",", comments="", header="time,wx,wy,wz,fx,fy,fz")
+    assert main(["allan", "rec.csv", "--format", "generic", "--gyro-columns", "wx,wy,wz",
+                 "--accel-columns", "fx,fy,fz", "--gyro-units", "deg/s", "--accel-units", "g",
+                 "--time-column", "time", "--time-units", "ms", "--fit", "fit.toml"]) == 0
+    from imunav.sensors.models import ImuModel
+
+    m = ImuModel.from_toml("fit.toml")
+    # white noise of σ per sample at 50 Hz: density σ/√50 (deg/s → rad/s; g → m/s²)
+    assert m.gyro.noise_density == pytest.approx(np.radians(0.05) / np.sqrt(50), rel=0.1)
+    assert m.accel.noise_density == pytest.approx(9.80665e-3 / np.sqrt(50), rel=0.1)
+
+
+def test_allan_plot_with_an_unknown_format_is_refused_before_the_fit_is_written(folder, capsys):
+    """4. `allan --plot out.xyz` failed with an internal error after writing the fit."""
+    _static_log("log.csv")
+    assert main(["allan", "log.csv", "--fit", "fit.toml", "--plot", "out.xyz"]) == 2
+    msg = _one_error(capsys)
+    assert "--plot out.xyz: unknown image format 'xyz'" in msg and "png" in msg
+    assert not Path("fit.toml").exists() and not Path("out.xyz").exists()
+
+
+def test_allan_refuses_a_record_that_is_not_static(folder, capsys):
+    """9. A gyro of sin t was fitted a rate random walk of 4e6 °/h/√h, silently."""
+    _static_log("moving.csv", gyro=lambda t: np.column_stack([np.sin(t), 0 * t, 0 * t]))
+    assert main(["allan", "moving.csv", "--fit", "fit.toml"]) == 2
+    msg = _one_error(capsys)
+    assert "moving.csv is not a static record: the gyro's 1-s means on axis x vary by" in msg
+    assert not Path("fit.toml").exists()
+
+
+def test_allan_says_which_terms_a_static_log_cannot_give(folder, capsys):
+    """9. The fitted TOML left out misalignment, scale factor and turn-on bias without saying
+    so (an assessment with it was optimistic): now the TOML and the terminal say it."""
+    _static_log("log.csv")
+    assert main(["allan", "log.csv", "--fit", "fit.toml"]) == 0
+    out = capsys.readouterr().out
+    for text in (out, Path("fit.toml").read_text()):
+        assert "a static log cannot give gyro.bias, gyro.scale_factor, gyro.misalignment" in text
+        assert "accel.misalignment" in text and "add them from the datasheet" in text
+
+
+# ------------------------------------------------------------------------- exit statuses
+
+
+def test_assess_check_exits_1_when_not_suitable(folder, capsys):
+    args = ["assess", "m.toml", "--imu", "MPU-6050", "--rate", "20"]
+    assert main([*args, "--tolerance", "0.01"]) == 0                    # a report: 0
+    assert "NOT SUITABLE" in capsys.readouterr().out
+    assert main([*args, "--tolerance", "0.01", "--check"]) == 1
+    assert "NOT SUITABLE" in capsys.readouterr().out
+    assert main([*args, "--tolerance", "1e6", "--check"]) == 0
+    assert main([*args, "--tolerance", "1e6", "--check", "--runs", "3"]) == 0
+
+
+def test_internal_errors_exit_70_with_one_line(folder, capsys, monkeypatch):
+    import imunav.cli as cli
+
+    def boom(args):
+        raise ZeroDivisionError("planted")
+
+    monkeypatch.setitem(cli.build_parser.__globals__, "cmd_simulate", boom)
+    assert _simulate("s.csv") == 70
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("imunav: internal error") and "planted" in err[0]
+
+
+def test_version(capsys):
+    import importlib.metadata
+
+    assert main(["--version"]) == 0
+    assert capsys.readouterr().out.strip() == f"imunav {importlib.metadata.version('imunav')}"
+
+
+# ------------------------------------------------------------------------------ messages
+
+
+def test_navigate_a_missing_signal_file_says_so(folder, capsys):
+    """11. `navigate nothere.csv` said '--initial is required' instead of 'file not found'."""
+    assert main(["navigate", "nothere.csv", "--out", "n.csv"]) == 2
+    assert _one_error(capsys) == "imunav: error: signal file not found: nothere.csv"
+
+
+@pytest.mark.parametrize("args, runs", [(["simulate", "m.toml", "--rate", "20", "--out", "s.csv"],
+                                         False),
+                                        (["assess", "m.toml", "--imu", "BMI088", "--rate", "20",
+                                          "--tolerance", "1", "--runs", "2"], True)])
+def test_the_memory_message_names_runs_only_when_given(folder, capsys, monkeypatch, args, runs):
+    """11. The memory message suggested "fewer --runs" when no --runs was given."""
+    import imunav.cli as cli
+
+    def oom(a):
+        raise MemoryError
+
+    monkeypatch.setitem(cli.build_parser.__globals__, f"cmd_{args[0]}", oom)
+    assert main(args) == 2
+    assert ("--runs" in _one_error(capsys)) == runs
