@@ -1,4 +1,4 @@
-"""Command line: ``imunav simulate | navigate | assess | design | allan | reproduce``
+"""Command line: ``imunav simulate | navigate | filter | assess | design | allan | reproduce``
 (also ``python -m imunav``).
 
 Exit status: 0 done; 1 ``assess --check`` found the IMU NOT SUITABLE; 2 a usage or input error,
@@ -31,9 +31,13 @@ from imunav.core.constants import G0
 from imunav.core.resources import check_disk
 from imunav.core.validation import ImunavError, check_positive
 from imunav.earth import check_origin
+from imunav.estimation.filters import SD_COLUMNS, run_filter
 from imunav.io import realdata
+from imunav.io.aiding import AIDING_FILES, check_span, read_aiding, write_aiding
+from imunav.io.csvio import CsvWriter
 from imunav.io.files import (
     ROW_BYTES,
+    STATE_HEADER,
     SignalFile,
     figure_format,
     load_motion,
@@ -50,6 +54,7 @@ from imunav.io.paths import check_outputs
 from imunav.motion.geodetic import EarthMotion
 from imunav.plotting import plot_allan
 from imunav.reproduce import format_table, reproduce_all
+from imunav.sensors.aiding import AidingConfig, simulate_aiding
 from imunav.sensors.allan import allan_fits
 from imunav.sensors.allan_report import format_allan, imu_toml
 from imunav.sensors.models import ImuModel
@@ -75,6 +80,21 @@ def _positive(name):
                                              f"{text!r}") from None
         except ImunavError as exc:
             raise argparse.ArgumentTypeError(str(exc)) from None
+
+    return conv
+
+
+def _probability(name):
+    def conv(text):
+        """Convert the option's text, or an argparse error naming it."""
+        try:
+            v = float(text)
+        except ValueError:
+            v = float("nan")
+        if not 0 < v <= 1:
+            raise argparse.ArgumentTypeError(f"{name} must be a probability in (0, 1], got "
+                                             f"{text!r}")
+        return v
 
     return conv
 
@@ -117,7 +137,12 @@ def build_parser() -> argparse.ArgumentParser:
                    help=f"add sensor errors: a preset ({presets}) or an IMU.toml with [gyro] "
                         "and [accel] tables")
     s.add_argument("--seed", type=_integer("--seed", 0), default=0,
-                   help="random seed for --imu (default 0)")
+                   help="random seed for --imu and --aiding (default 0)")
+    s.add_argument("--aiding", metavar="AIDING.toml",
+                   help="also simulate the aiding sensors of AIDING.toml (with --aiding-out)")
+    s.add_argument("--aiding-out", metavar="DIR",
+                   help="folder for gnss.csv, baro.csv, heading.csv, nhc.csv, zupt.csv "
+                        "(created if absent)")
     _earth_options(s)
 
     names = sorted({n for table in ALGORITHMS.values() for n in table})
@@ -146,6 +171,29 @@ def build_parser() -> argparse.ArgumentParser:
     n.add_argument("--earth", choices=EARTHS, default="flat",
                    help="navigation frame: flat (non-rotating NED, the default) or wgs84 (the "
                         "rotating Earth; --initial is then a t,lat,lon,alt,vn,ve,vd,… truth CSV)")
+
+    f = sub.add_parser("filter", help="aided navigation: the error-state Kalman filter (and "
+                                      "RTS smoother) of SIGNALS.csv with the aiding readings")
+    f.add_argument("signals", metavar="SIGNALS.csv")
+    f.add_argument("--initial", required=True, metavar="TRUTH.csv",
+                   help="its first row is the initial state")
+    f.add_argument("--imu", metavar="PRESET|IMU.toml",
+                   help="the IMU model the filter assumes (default: ideal, no sensor states)")
+    f.add_argument("--aiding", required=True, metavar="AIDING.toml",
+                   help="the aids' noise models (and [initial] uncertainty)")
+    f.add_argument("--measurements", required=True, metavar="DIR",
+                   help="folder with gnss.csv, baro.csv, heading.csv, nhc.csv, zupt.csv")
+    f.add_argument("--out", required=True, metavar="NAV.csv",
+                   help="navigation CSV plus " + ",".join(SD_COLUMNS))
+    f.add_argument("--smooth", action="store_true",
+                   help="write the RTS smoother's states and standard deviations instead")
+    f.add_argument("--algorithm", choices=names, metavar="NAME",
+                   help="strapdown algorithm; default the most accurate for the kind")
+    f.add_argument("--gate", type=_probability("--gate"), default=0.9999, metavar="P",
+                   help="χ² innovation gate probability (default 0.9999; 1: no gate)")
+    f.add_argument("--covariance-step", type=_positive("--covariance-step"), default=0.1,
+                   metavar="S", help="longest covariance step (s, default 0.1)")
+    f.add_argument("--g", type=_positive("--g"), metavar="G", help="gravity (m/s²), 9.80665")
 
     a = sub.add_parser("assess", help="can this IMU track this motion? (the verdict)")
     a.add_argument("motion", metavar="MOTION", help=MOTION_HELP)
@@ -281,7 +329,16 @@ def _imu(spec: str | None) -> tuple[ImuModel | None, list]:
 def cmd_simulate(args) -> int:
     """``imunav simulate``: stream the signals (and ``--truth``) of a motion to CSV."""
     model, imu_files = _imu(args.imu)
-    out = check_outputs({"--out": args.out, "--truth": args.truth}, [args.motion, *imu_files])
+    if (args.aiding is None) != (args.aiding_out is None):
+        raise ImunavError("--aiding and --aiding-out go together")
+    if args.aiding and args.earth != "flat":
+        raise ImunavError("--aiding simulates the flat frame so far: the aided filter on "
+                          "--earth wgs84 is not built yet")
+    aiding = AidingConfig.from_toml(args.aiding) if args.aiding else None
+    inputs = [args.motion, *imu_files] + ([args.aiding] if args.aiding else [])
+    out = check_outputs({"--out": args.out, "--truth": args.truth}, inputs)
+    if args.aiding_out:
+        _check_aiding_out(Path(args.aiding_out), aiding, inputs, out)
     motion, duration, g_file = _motion(args)
     motion = _on_earth(args, motion, g_file)
     g = args.g if args.g is not None else (g_file if g_file is not None else G0)
@@ -305,12 +362,116 @@ def cmd_simulate(args) -> int:
     if clipped[0]:
         print(f"imunav: warning: {clipped[0]} samples clipped at the sensor range",
               file=sys.stderr)
+    if aiding is not None:
+        data = simulate_aiding(motion, aiding, n / args.rate, seed=args.seed,
+                               imu_rate=args.rate)
+        files = write_aiding(args.aiding_out, data)
+        counts = ", ".join(f"{p.name} ({_rows(data, p.stem)} rows)" for p in files)
+        print(f"wrote {counts} to {args.aiding_out}")
     offset = motion.time_offset
     note = (f" (t = 0 is the first pose or waypoint, t = {offset:g} s in {args.motion})"
             if offset else "")
     print(f"wrote {rows} {args.output} rows at {args.rate:g} Hz to {args.out}{note}",
           file=_report(out))
     return 0
+
+
+def _rows(data, name: str) -> int:
+    r = getattr(data, name)
+    return int(r.shape[0]) if name == "zupt" else len(r)
+
+
+def _check_aiding_out(folder: Path, aiding, inputs, outputs) -> None:
+    """--aiding-out: not a file, and none of its sensor files an input or another output."""
+    if folder.exists() and not folder.is_dir():
+        raise ImunavError(f"--aiding-out {folder} is a file; give a folder")
+    if not folder.resolve().parent.is_dir():
+        raise ImunavError(f"--aiding-out {folder}: the folder {folder.resolve().parent} does "
+                          "not exist")
+    names = {f"--aiding-out {folder / fname}": folder / fname
+             for fname, _ in AIDING_FILES.values()}
+    check_outputs({**outputs, **names} if folder.is_dir() else dict(outputs), inputs)
+
+
+def cmd_filter(args) -> int:
+    """``imunav filter``: the aided filter (or smoother) of a signals CSV and its aiding readings."""
+    model, imu_files = _imu(args.imu)
+    inputs = [args.signals, args.initial, args.aiding, args.measurements, *imu_files]
+    out = check_outputs({"--out": args.out}, inputs)
+    aiding = AidingConfig.from_toml(args.aiding)
+    if not aiding.sensors:
+        raise ImunavError(f"--aiding {args.aiding} has no aiding sensor ([gnss], [baro], "
+                          "[heading], [nhc] or [zupt])")
+    sig = read_signals(args.signals, g=args.g)
+    _check_algorithm(sig.kind, args.algorithm)
+    init = read_initial_state(args.initial)
+    if init.frame != "flat":
+        raise ImunavError(f"--initial {args.initial} is a {init.frame} state: the aided filter "
+                          "works in the flat frame so far (t,x,y,z,vx,vy,vz,qw,qx,qy,qz)")
+    t_start = float(sig.state_times()[0])
+    if abs(init.t[0] - t_start) > 1e-6 / sig.rate + 1e-12 * abs(t_start):
+        raise ImunavError(f"--initial {args.initial} starts at t = {init.t[0]:.9g} s but the "
+                          f"signals start at t = {t_start:.9g} s")
+    data = read_aiding(args.measurements, aiding.sensors)
+    t_end = float(sig.state_times()[-1])
+    check_span(args.measurements, data, t_start, t_end)
+    if aiding.zupt and aiding.zupt.detector == "truth" and data.zupt is None:
+        raise ImunavError(f"[zupt] detector = \"truth\" needs {Path(args.measurements) / 'zupt.csv'}"
+                          " (the stance intervals)")
+    n_rows = len(sig) + (1 if sig.kind == "increments" else 0)
+    check_disk(out["--out"], n_rows * (ROW_BYTES["states"] + 9 * 24), "this filter's output")
+    if model is None:
+        print("filter: no --imu given: the filter assumes an ideal IMU (no sensor-error states)")
+    q0, v0, p0 = init.initial()
+    res = run_filter(sig, q0, v0, p0, aiding, data, imu=model, algorithm=args.algorithm,
+                     covariance_step=args.covariance_step,
+                     gate=None if args.gate >= 1 else args.gate, smooth=args.smooth)
+    r = res.smoothed if args.smooth else res
+    st = r.states
+    with CsvWriter(out["--out"], STATE_HEADER + SD_COLUMNS) as w:
+        w.write([st.t, st.position, st.velocity, st.quaternion, r.sd])
+    for msg in res.warnings:
+        print(f"imunav: warning: {msg}", file=sys.stderr)
+    what = "smoothed " if args.smooth else ""
+    print(f"wrote {len(st.t)} {what}navigation rows ({st.algorithm}, {len(res.layout)} state "
+          f"blocks, {res.estimates.shape[1] + 9} error states) to {args.out}")
+    print(format_innovations(res.innovations))
+    return 0
+
+
+#: Units of each aid's innovation components, for the statistics table.
+INNOVATION_UNITS = {"gnss": ("m", "m", "m", "m/s", "m/s", "m/s"), "baro": ("m",),
+                    "heading": ("rad",), "nhc": ("m/s", "m/s"), "zupt": ("m/s", "m/s", "m/s")}
+
+
+def format_innovations(innovations: dict) -> str:
+    """The innovation statistics per sensor, as ``imunav filter`` prints them.
+
+    Parameters
+    ----------
+    innovations : dict
+        ``{sensor: Innovations}`` of a filter result.
+
+    Returns
+    -------
+    str
+    """
+    lines = ["innovations (predicted − measured):",
+             f"  {'sensor':8} {'readings':>8} {'rejected':>8} {'mean NIS':>9} {'dof':>3} "
+             f"{'lag-1 ρ':>8} {'95% band':>9}  rms per component"]
+    for name, inn in innovations.items():
+        st = inn.stats()
+        if not st["readings"]:
+            lines.append(f"  {name:8} {0:>8} {0:>8}")
+            continue
+        rho = np.asarray(st["lag1"], dtype=float)
+        worst = float(rho[np.nanargmax(np.abs(rho))]) if np.isfinite(rho).any() else float("nan")
+        band = 1.96 / np.sqrt(max(1, st["readings"] - st["rejected"]))
+        units = INNOVATION_UNITS.get(name, ("",) * st["dof"])
+        rms = ", ".join(f"{v:.3g} {u}" for v, u in zip(st["rms"], units, strict=False))
+        lines.append(f"  {name:8} {st['readings']:>8} {st['rejected']:>8} "
+                     f"{st['mean_nis']:>9.3f} {st['dof']:>3} {worst:>8.3f} {band:>9.3f}  {rms}")
+    return "\n".join(lines)
 
 
 def cmd_assess(args) -> int:
@@ -327,13 +488,9 @@ def cmd_assess(args) -> int:
                 raise ImunavError(f"{opt} applies to --method montecarlo only")
     motion, duration, g_file = _motion(args)
     motion = _on_earth(args, motion, g_file)
-    if motion.frame == "wgs84" and method == "covariance":
-        raise ImunavError("the covariance analysis on the WGS-84 Earth is not wired yet: use "
-                          "--method montecarlo --runs N")
-    if args.vertical == "hold":
-        raise ImunavError("--vertical hold is not wired yet: use --vertical free")
     r = assess(motion, model, args.rate, args.runs, args.tolerance, seed=args.seed or 0,
-               duration=duration, scheduler=args.scheduler, method=method)
+               duration=duration, scheduler=args.scheduler, method=method,
+               vertical=args.vertical)
     print(format_verdict(r), file=_report(out))
     if args.json:
         write_json(r, out["--json"])
@@ -346,9 +503,8 @@ def cmd_design(args) -> int:
     out = check_outputs({"--json": args.json}, [args.motion, *imu_files])
     motion, duration, g_file = _motion(args)
     motion = _on_earth(args, motion, g_file)
-    if motion.frame == "wgs84":
-        raise ImunavError("design on the WGS-84 Earth (a covariance analysis) is not wired yet")
-    r = design(motion, model, args.rate, args.tolerance, duration=duration)
+    r = design(motion, model, args.rate, args.tolerance, duration=duration,
+               vertical=args.vertical)
     print(format_design(r), file=_report(out))
     if args.json:
         write_json(r, out["--json"])
@@ -512,7 +668,8 @@ def main(argv: list[str] | None = None) -> int:
         args = build_parser().parse_args(argv)
     except SystemExit as exc:                                # usage errors (2), --help (0)
         return int(exc.code or 0)
-    command = {"simulate": cmd_simulate, "navigate": cmd_navigate, "assess": cmd_assess,
+    command = {"simulate": cmd_simulate, "navigate": cmd_navigate, "filter": cmd_filter,
+               "assess": cmd_assess,
                "design": cmd_design, "allan": cmd_allan,
                "reproduce": cmd_reproduce}[args.command]
     try:
@@ -531,7 +688,8 @@ def main(argv: list[str] | None = None) -> int:
 FLAGS = {"imu": "--imu", "smoothing": "--smoothing", "attitude_smoothing": "--attitude-smoothing",
          "scheduler": "--scheduler", "runs": "--runs", "seed": "--seed", "rate": "--rate",
          "tolerance": "--tolerance", "algorithm": "--algorithm", "initial": "--initial",
-         "origin": "--origin", "earth": "--earth", "g": "--g"}
+         "measurements": "--measurements", "covariance_step": "--covariance-step",
+         "gate": "--gate", "origin": "--origin", "earth": "--earth", "g": "--g"}
 
 
 def flagged(exc: ImunavError) -> str:

@@ -637,6 +637,33 @@ def gravitation_gradient(r: npt.ArrayLike, step: float = 20.0) -> FloatArray:
                     axis=-1)
 
 
+def gravitation_hessian(r: npt.ArrayLike, step: float = 200.0) -> FloatArray:
+    """The second derivatives ``∂²G_i/∂r_j∂r_k`` (s⁻² m⁻¹, ~3g/R² ≈ 7e-13) of the gravitation
+    at ``r``, by central differences of :func:`gravitation_gradient` (steps of ``step`` metres:
+    truncation ~1e-9 and rounding ~4e-6 of it).
+
+    Parameters
+    ----------
+    r : array_like, shape (..., 3)
+    step : float
+        Difference step (m).
+
+    Returns
+    -------
+    ndarray, shape (..., 3, 3, 3)
+        ``[i, j, k]``.
+    """
+    r = as_float_array(r, "r", last=3)
+    pts = np.empty(r.shape[:-1] + (6, 3))
+    pts[...] = r[..., None, :]
+    for k in range(3):
+        pts[..., 2 * k, k] += step
+        pts[..., 2 * k + 1, k] -= step
+    J = gravitation_gradient(pts)                                  # (..., 6, 3, 3)
+    return np.stack([(J[..., 2 * k, :, :] - J[..., 2 * k + 1, :, :]) / (2.0 * step)
+                     for k in range(3)], axis=-1)
+
+
 def curvature_matrix(lat: npt.ArrayLike, h: npt.ArrayLike) -> FloatArray:
     """``K`` with ``δθ = K δp``: the small rotation (rad, in NED) of the local NED frame when the
     point moves by ``δp`` (m, NED) — the transport rate is ``K v``.
@@ -661,5 +688,5 @@ def curvature_matrix(lat: npt.ArrayLike, h: npt.ArrayLike) -> FloatArray:
     return K
 
 
-__all__ += ["curvature_matrix", "gravitation_gradient"]
+__all__ += ["curvature_matrix", "gravitation_gradient", "gravitation_hessian"]
 

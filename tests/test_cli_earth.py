@@ -108,3 +108,64 @@ def test_assess_montecarlo_on_the_earth(tmp_path, motion_file, capsys):
                  str(out)]) == 0
     text = capsys.readouterr().out
     assert "20 runs" in text and out.exists()
+
+
+def test_assess_with_the_vertical_held_and_the_dominance_note(tmp_path, capsys):
+    """Free, an accelerometer bias's error is mostly vertical and the verdict says so; held (a
+    perfect height aid) only the horizontal part remains."""
+    motion = tmp_path / "still.toml"
+    motion.write_text("duration = 1800.0\n")
+    imu = tmp_path / "imu.toml"
+    imu.write_text('[gyro]\n[accel]\nbias = "1 mg"\n')
+    args = ["assess", str(motion), "--imu", str(imu), "--rate", "1", "--tolerance", "5",
+            "--runs", "30", "--earth", "wgs84", "--origin", "45,7,100"]
+    out = tmp_path / "a.json"
+    assert main(args + ["--json", str(out)]) == 0
+    free = capsys.readouterr().out
+    assert "the vertical channel dominates" in free
+    import json
+
+    r = json.loads(out.read_text())
+    assert r["vertical"] == "free" and r["final_p95_position_m"] > 2 * r["final_p95_horizontal_m"]
+    assert main(args + ["--vertical", "hold", "--json", str(out)]) == 0
+    held = capsys.readouterr().out
+    assert "dominates" not in held
+    r2 = json.loads(out.read_text())
+    assert r2["final_p95_position_m"] == pytest.approx(r2["final_p95_horizontal_m"], rel=1e-3)
+    assert main(["assess", str(motion), "--imu", str(imu), "--rate", "1", "--tolerance", "5",
+                 "--runs", "3", "--vertical", "hold"]) == 2
+    assert "--vertical applies to --earth wgs84 only" in capsys.readouterr().err
+
+
+def test_assess_and_design_by_covariance_on_the_earth(tmp_path, capsys):
+    """The covariance assessment on the Earth (the Earth error model, streamed) against the
+    Monte Carlo verdict of the same command, free and held; design runs on it too."""
+    import json
+
+    motion = tmp_path / "still.toml"
+    motion.write_text("duration = 1800.0\n")
+    imu = tmp_path / "imu.toml"
+    imu.write_text('[gyro]\n[accel]\nbias = "1 mg"\n')
+    base = ["assess", str(motion), "--imu", str(imu), "--rate", "1", "--tolerance", "5",
+            "--earth", "wgs84", "--origin", "45,7,100"]
+    got = {}
+    for vertical in ("free", "hold"):
+        for method, extra in (("covariance", []), ("montecarlo", ["--runs", "300"])):
+            out = tmp_path / f"{vertical}-{method}.json"
+            assert main(base + extra + ["--vertical", vertical, "--json", str(out)]) == 0
+            got[vertical, method] = json.loads(out.read_text())
+    text = capsys.readouterr().out
+    assert "covariance analysis" in text and "the vertical channel dominates" in text
+    for vertical in ("free", "hold"):
+        cov, mc = got[vertical, "covariance"], got[vertical, "montecarlo"]
+        assert cov["final_p95_position_m"] == pytest.approx(mc["final_p95_position_m"], rel=0.1)
+        assert cov["final_p95_horizontal_m"] == pytest.approx(mc["final_p95_horizontal_m"],
+                                                              rel=0.1)
+    assert got["hold", "covariance"]["final_p95_position_m"] < 0.5 * got["free", "covariance"][
+        "final_p95_position_m"]
+    out = tmp_path / "d.json"
+    assert main(["design", str(motion), "--imu", str(imu), "--rate", "1", "--tolerance", "50",
+                 "--earth", "wgs84", "--origin", "45,7,100", "--vertical", "hold", "--json",
+                 str(out)]) == 0
+    d = json.loads(out.read_text())
+    assert "accel.bias" in d["terms"]

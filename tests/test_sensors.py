@@ -196,3 +196,13 @@ def test_error_stream_does_not_depend_on_chunking(kind, rng):
     for j in range(3):
         np.testing.assert_allclose(np.concatenate([p[j] for p in parts]), whole[j], rtol=1e-15,
                                    atol=1e-18)
+
+
+def test_triad_model_replace_changes_only_what_is_asked():
+    m = TriadModel(noise_density=2e-4, bias=1e-3, bias_correlation_time=100.0)
+    r = m.replace(bias=5e-3, range=4.0)
+    assert (r.bias, r.range, r.noise_density, r.bias_correlation_time) == (5e-3, 4.0, 2e-4, 100.0)
+    assert m.bias == 1e-3 and m.range is None            # the original is untouched
+    assert r.replace(bias=1e-3, range=None) == m
+    with pytest.raises(TypeError, match="unexpected keyword"):
+        m.replace(bias_drift=1.0)

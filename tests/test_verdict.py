@@ -208,7 +208,9 @@ def test_assess_passes_every_setting_through(monkeypatch):
 
     calls, rates = [], []
 
-    def recording_mc(motion, model, rate, duration, runs, seed, output, *, scheduler, progress):
+    def recording_mc(motion, model, rate, duration, runs, seed, output, *, scheduler, progress,
+                     vertical):
+        assert vertical == "free"                         # the flat frame's (no height aid)
         calls.append((model.name, duration, runs, seed, output, scheduler, progress))
         return monte_carlo(motion, model, rate, duration, runs, seed, output, progress=False)
 
@@ -343,7 +345,8 @@ def test_assess_covariance_passes_every_setting_through(monkeypatch):
 
     seen = {}
 
-    def rec_cov(motion, model, rate, duration, *, output, tolerance, level, progress):
+    def rec_cov(motion, model, rate, duration, *, output, tolerance, level, progress, vertical):
+        assert vertical == "free"                         # the flat frame's
         seen["cov"] = (duration, output, tolerance, level)
         return covariance_summary(motion, model, rate, duration, output=output,
                                   tolerance=tolerance, level=level, progress=progress)

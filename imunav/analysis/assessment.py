@@ -18,6 +18,7 @@ from imunav.analysis.covariance import (
     covariance_summary,
     envelope_index,
 )
+from imunav.analysis.gaussnorm import norm_quantile
 from imunav.analysis.metrics import nav_errors
 from imunav.analysis.montecarlo import MonteCarloResult, monte_carlo
 from imunav.core.validation import ImunavError, check_positive
@@ -227,14 +228,16 @@ def deterministic_error(motion: BaseMotion, model: ImuModel, rate: float,
 
 def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, tolerance: float,
                       duration: float | None = None, output: str = "increments",
-                      progress: bool = True) -> dict:
+                      progress: bool = True, vertical: str = "free") -> dict:
     """The applicability verdict by linear covariance analysis (:mod:`~imunav.analysis.covariance`):
     a fraction of a second where Monte Carlo takes tens of seconds; exact for the linear
     model, and flagged when the motion leaves its validity (clipping, large attitude errors,
-    a filter lag that matters on this motion: :func:`deterministic_error`)."""
+    a filter lag that matters on this motion: :func:`deterministic_error`). On the WGS-84
+    Earth ``vertical="hold"`` holds the vertical channel at the true height; free, a verdict
+    dominated by the unstable vertical channel says so."""
     tolerance = check_positive(tolerance, "tolerance")
     cov = covariance_summary(motion, model, rate, duration, output=output, tolerance=tolerance,
-                             level=SUITABLE_FRACTION, progress=progress)
+                             level=SUITABLE_FRACTION, progress=progress, vertical=vertical)
     r = verdict_covariance(cov, tolerance, min_sample_rate(motion, tolerance, duration, output),
                            motion=motion.name, imu=model.name)
     det = deterministic_error(motion, model, rate, duration, output,
@@ -246,6 +249,15 @@ def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, toleranc
             f"this motion (signal lag or clipping: not in the covariance, which models their "
             f"effect on noise); the error can reach the 95th percentile plus this. Check with "
             "--method montecarlo")
+    if motion.frame == "wgs84" and cov.terms:
+        Ph = cov.total[-1:, 6:9, 6:9].copy()
+        Ph[:, 2, :] = Ph[:, :, 2] = 0.0                      # the horizontal part alone
+        hor = float(norm_quantile(Ph, PERCENTILE / 100)[0])
+        r["vertical"] = vertical
+        r["final_p95_horizontal_m"] = hor
+        note = vertical_note(r["final_p95_position_m"], hor, vertical)
+        if note:
+            r["warnings"].append(note)
     return r
 
 
@@ -257,7 +269,7 @@ def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int | None = 
            tolerance: float | None = None, seed: int = 0, duration: float | None = None,
            output: str = "increments", budget_runs: int | None = None,
            scheduler: str | None = None, progress: bool = True,
-           method: str | None = None) -> dict:
+           method: str | None = None, vertical: str = "free") -> dict:
     """The applicability verdict: the numbers of ``imunav assess`` (see :func:`verdict`,
     :func:`verdict_covariance` and :func:`format_verdict`), by either method, as the command
     line chooses it.
@@ -286,6 +298,9 @@ def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int | None = 
     method : {"covariance", "montecarlo"}, optional
         Default: Monte Carlo when ``runs`` is given, else linear covariance analysis
         (:func:`assess_covariance`).
+    vertical : {"free", "hold"}
+        On the WGS-84 Earth ``"hold"`` holds the vertical channel at the true height (a
+        perfect height aid); free, a verdict dominated by the unstable vertical channel says so.
 
     Returns
     -------
@@ -311,18 +326,52 @@ def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int | None = 
                 raise ImunavError(f"{name} applies to the Monte Carlo method only "
                                   "(method 'montecarlo')", argument=name)
         return assess_covariance(motion, model, rate, tolerance, duration, output,
-                                 progress=progress)
+                                 progress=progress, vertical=vertical)
     if runs is None:
         raise ImunavError("runs is required for the Monte Carlo method (method 'montecarlo')",
                           argument="runs")
     mc = monte_carlo(motion, model, rate, duration, runs, seed, output, scheduler=scheduler,
-                     progress=progress)
+                     progress=progress, vertical=vertical)
     br = budget_runs or min(runs, 200)
     budget = {term: monte_carlo(motion, model.only(term), rate, duration, br, seed, output,
-                                scheduler=scheduler, progress=False)
+                                scheduler=scheduler, progress=False, vertical=vertical)
               for term in model.terms()}
-    return verdict(mc, tolerance, budget, min_sample_rate(motion, tolerance, duration, output),
-                   motion=motion.name, imu=model.name, seed=seed)
+    r = verdict(mc, tolerance, budget, min_sample_rate(motion, tolerance, duration, output),
+                motion=motion.name, imu=model.name, seed=seed)
+    if mc.horizontal is not None:
+        r["vertical"] = vertical
+        hor = float(np.percentile(mc.horizontal[:, -1], PERCENTILE))
+        r["final_p95_horizontal_m"] = hor
+        note = vertical_note(r["final_p95_position_m"], hor, vertical)
+        if note:
+            r["warnings"].append(note)
+    return r
+
+
+#: Above this ratio of the whole error to its horizontal part the vertical channel dominates.
+VERTICAL_DOMINANCE = 2.0
+
+
+def vertical_note(total: float, horizontal: float, vertical: str) -> str | None:
+    """The warning of a verdict on the Earth whose error is mostly vertical: the free vertical
+    channel is unstable (the error e-folds in about 10 minutes); a height aid removes it.
+
+    Parameters
+    ----------
+    total, horizontal : float
+        Final 95th percentiles of the whole and the horizontal position error (m).
+    vertical : {"free", "hold"}
+
+    Returns
+    -------
+    str or None
+    """
+    if vertical != "free" or total <= VERTICAL_DOMINANCE * horizontal:
+        return None
+    return (f"the vertical channel dominates: {total:.3g} m in all, {horizontal:.3g} m "
+            "horizontally (free, the vertical error of an inertial navigator grows "
+            "exponentially, e-folding in about 10 minutes); with a perfect height aid "
+            "(--vertical hold) only the horizontal part remains")
 
 
 def format_verdict(r: dict) -> str:

@@ -525,8 +525,8 @@ LINEAR_LIMIT = 0.3
 
 
 def covariance(motion: BaseMotion, model: ImuModel, rate: float, duration: float | None = None,
-               g: float = G0, output: str = "increments", trajectory: Trajectory | None = None
-               ) -> CovarianceResult:
+               g: float = G0, output: str = "increments", trajectory: Trajectory | None = None,
+               vertical: str = "free") -> CovarianceResult:
     """Propagate every sensor error term of ``model`` along ``motion`` at ``rate`` Hz.
 
     Parameters
@@ -543,12 +543,16 @@ def covariance(motion: BaseMotion, model: ImuModel, rate: float, duration: float
         The signal kind (``increments``: quantisation with a carried residual).
     trajectory : Trajectory, optional
         The motion already sampled by :meth:`Trajectory.of` (to reuse it).
+    vertical : {"free", "hold"}
+        On the WGS-84 Earth (an :class:`~imunav.motion.geodetic.EarthMotion`): the vertical
+        channel free or held at the true height (a perfect height aid).
 
     Returns
     -------
     CovarianceResult
-        Per term and in total, at the output times; with warnings where the linear model may
-        not hold (a range exceeded, large attitude errors).
+        Per term and in total, at the output times (on the Earth: the errors in the local NED
+        frame); with warnings where the linear model may not hold (a range exceeded, large
+        attitude errors).
 
     Raises
     ------
@@ -560,7 +564,9 @@ def covariance(motion: BaseMotion, model: ImuModel, rate: float, duration: float
     duration = span(motion, rate, duration)
     traj = trajectory or Trajectory.of(motion, rate, duration, g)
     sources, warnings = linearise(model, traj, output, model.decimation(rate))
-    terms = dict(zip([s.name for s in sources], propagate(sources, traj), strict=True))
+    em = error_model(traj, vertical)
+    terms = {s.name: em.local(traj, P) for s, P in zip(sources, propagate(sources, traj, em),
+                                                        strict=True)}
     total = _sum(list(terms.values())) if terms else np.zeros((traj.t.size, 9, 9))
     res = CovarianceResult(traj.t, terms, total, float(rate), model.name, traj.max_rate,
                            traj.max_force, warnings)
@@ -581,7 +587,7 @@ def covariance_summary(motion: BaseMotion, model: ImuModel, rate: float,
                        output: str = "increments", *, tolerance: float | None = None,
                        level: float = 0.0, p: float = 0.95, maxima: bool = False,
                        trajectory: LazyTrajectory | None = None, progress: bool = False,
-                       chunk: int = CHUNK) -> CovarianceSummary:
+                       chunk: int = CHUNK, vertical: str = "free") -> CovarianceSummary:
     """:func:`covariance` streamed: the same propagation, a piece of the trajectory at a time,
     keeping only the grid of the envelope and the exact extrema an assessment needs — in memory
     that does not grow with the record.
@@ -613,6 +619,8 @@ def covariance_summary(motion: BaseMotion, model: ImuModel, rate: float,
         seconds).
     chunk : int
         Steps per piece.
+    vertical : {"free", "hold"}
+        On the WGS-84 Earth: the vertical channel free or held (a perfect height aid).
 
     Returns
     -------
@@ -643,7 +651,7 @@ def covariance_summary(motion: BaseMotion, model: ImuModel, rate: float,
     tracks = {k: MaxQuantileTracker(p) for k in [*names, None]} if maxima and names else {}
     bar = _progress(n, sources, progress)
     gi = 1                                                   # grid[0] = 0: no error yet
-    for lo, hi, covs in propagate_chunks(sources, traj, error_model(traj), chunk=chunk,
+    for lo, hi, covs in propagate_chunks(sources, traj, error_model(traj, vertical), chunk=chunk,
                                          local=True):
         tot = _sum(covs) if covs else np.zeros((hi - lo, 9, 9))
         at = grid[gi:gi + np.searchsorted(grid[gi:], hi, side="right")] - lo - 1

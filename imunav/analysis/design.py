@@ -45,15 +45,16 @@ def in_datasheet_units(term: str, si: float) -> str:
 
 def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
            duration: float | None = None, output: str = "increments",
-           progress: bool = True) -> dict:
+           progress: bool = True, vertical: str = "free") -> dict:
     """Limits of each error term of ``base``, the common scale, the minimum rate and every
-    preset ranked (the numbers of ``imunav design``; the JSON it writes)."""
+    preset ranked (the numbers of ``imunav design``; the JSON it writes). On the WGS-84 Earth
+    ``vertical="hold"`` holds the vertical channel at the true height."""
     tolerance = check_positive(tolerance, "tolerance")
     p = PERCENTILE / 100
     duration = span(motion, rate, duration)
     traj = LazyTrajectory(motion, rate, duration)
     cov = covariance_summary(motion, base, rate, duration, output=output, p=p, maxima=True,
-                             trajectory=traj, progress=progress)
+                             trajectory=traj, progress=progress, vertical=vertical)
     terms = {}
     for term in cov.terms:
         triad, _, name = term.partition(".")
@@ -69,7 +70,8 @@ def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
     presets = []
     for name in PRESETS:
         pc = covariance_summary(motion, ImuModel.load(name), rate, duration, output=output,
-                                tolerance=tolerance, trajectory=traj, progress=progress)
+                                tolerance=tolerance, trajectory=traj, progress=progress,
+                                vertical=vertical)
         final = float(pc.position_quantile(p, index=-1)) if pc.terms else 0.0
         within = pc.min_position_within(tolerance) if pc.terms else 1.0
         presets.append({"name": name, "final_p95_position_m": final,

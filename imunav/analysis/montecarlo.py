@@ -43,6 +43,7 @@ class MonteCarloResult:
     model: str
     rate: float
     kind: str
+    horizontal: FloatArray | None = None   # on the Earth: |Δr| north–east (m)
 
     @property
     def runs(self) -> int:
@@ -80,6 +81,9 @@ class MonteCarloTask:
     earth : {"flat", "wgs84"}
         The navigation frame (the motion's): on the Earth positions are ``[lat, lon, h]`` and
         the position error is the distance in metres.
+    vertical : {"free", "hold"}
+        On the Earth: the vertical channel free, or held at the true height and vertical
+        velocity (a perfect height aid).
     """
 
     gyro: FloatArray
@@ -95,10 +99,17 @@ class MonteCarloTask:
     truth_p: FloatArray
     algorithm: str | None = None
     earth: str = "flat"
+    vertical: str = "free"
+
+    def hold(self, t: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """The true heights and down velocities at the state times ``t`` (the perfect height
+        aid of ``vertical="hold"``), from the truth at the output times."""
+        k = np.rint(t * self.rate).astype(int)               # the states are at k / rate
+        return self.truth_p[k, 2], self.truth_v[k, 2]
 
 
 @limit_blas
-def _mc_chunk(task: MonteCarloTask, seeds) -> tuple[FloatArray, FloatArray, FloatArray, np.ndarray]:
+def _mc_chunk(task: MonteCarloTask, seeds) -> tuple:
     """One chunk of runs (module-level and picklable: a Dask task)."""
     G, A, S = [], [], []
     for ss in seeds:
@@ -112,13 +123,15 @@ def _mc_chunk(task: MonteCarloTask, seeds) -> tuple[FloatArray, FloatArray, Floa
     G = np.stack(G).transpose(1, 0, 2)
     A = np.stack(A).transpose(1, 0, 2)
     q, v, p = navigate_batch(task.kind, G, A, task.rate, task.truth_q[0], task.truth_v[0],
-                             task.truth_p[0], task.g, algorithm=task.algorithm, earth=task.earth)
-    truth_p = task.truth_p
+                             task.truth_p[0], task.g, algorithm=task.algorithm, earth=task.earth,
+                             hold=task.hold if task.vertical == "hold" else None)
+    truth_p, hor = task.truth_p, None
     if task.earth == "wgs84":            # [lat, lon, h] → metres from the truth, in local NED
         p = ned_difference(p, np.broadcast_to(truth_p[:, None], p.shape))
         truth_p = np.zeros_like(truth_p)
+        hor = np.hypot(p[..., 0], p[..., 1]).T
     pos, vel, att = _run_errors(q, v, p, task.truth_q, task.truth_v, truth_p)
-    return pos, vel, att, np.array(S)
+    return pos, vel, att, np.array(S), hor
 
 
 #: Time rows per block of :func:`_run_errors` (its temporaries stay in the cache).
@@ -158,12 +171,21 @@ def _run_errors(q, v, p, truth_q, truth_v, truth_p):
 def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: float | None = None,
                 runs: int = 100, seed: int = 0, output: str = "increments", g: float = G0,
                 chunk: int | None = None, progress: bool = True,
-                scheduler: str | None = None, algorithm: str | None = None) -> MonteCarloResult:
+                scheduler: str | None = None, algorithm: str | None = None,
+                vertical: str = "free") -> MonteCarloResult:
     """``runs`` simulations of ``model`` on ``motion`` at ``rate`` Hz, each navigated back with
     ``algorithm`` (default: the registry's default for ``output``).
 
-    Reproducible bit for bit for a given ``seed`` (whatever ``chunk`` or ``scheduler``).
+    Reproducible bit for bit for a given ``seed`` (whatever ``chunk`` or ``scheduler``). On the
+    Earth (an :class:`~imunav.motion.geodetic.EarthMotion`) ``vertical="hold"`` holds each run's
+    vertical channel at the true height (a perfect height aid).
     """
+    if vertical not in ("free", "hold"):
+        raise ImunavError(f"vertical must be 'free' or 'hold', got {vertical!r}",
+                          argument="vertical")
+    if vertical == "hold" and motion.frame != "wgs84":
+        raise ImunavError("vertical='hold' applies to a motion on the WGS-84 Earth only",
+                          argument="vertical")
     rate = check_positive(rate, "rate")
     runs = check_int(runs, "runs", 1)
     seed = check_int(seed, "seed", 0)
@@ -182,7 +204,7 @@ def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: floa
     seeds = np.random.SeedSequence(seed).spawn(runs)
     parts = [seeds[i:i + chunk] for i in range(0, runs, chunk)]
     task = MonteCarloTask(sim.gyro, sim.accel, output, rate * k, k, model, rate, g, truth_q,
-                          truth_v, truth_p, algorithm, motion.frame)
+                          truth_v, truth_p, algorithm, motion.frame, vertical)
     if scheduler:
         try:
             from dask.distributed import Client
@@ -202,7 +224,8 @@ def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: floa
         if bar is not None:
             bar.close()
     pos, vel, att, sat = (np.concatenate([r[i] for r in results]) for i in range(4))
-    return MonteCarloResult(t, pos, vel, att, sat, model.name, rate, output)
+    hor = None if results[0][4] is None else np.concatenate([r[4] for r in results])
+    return MonteCarloResult(t, pos, vel, att, sat, model.name, rate, output, hor)
 
 
 def _progress(n_chunks: int, work: int, enabled: bool):

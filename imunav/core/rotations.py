@@ -28,7 +28,13 @@ GIMBAL_LOCK_TOL = 1e-9
 
 
 class GimbalLockWarning(UserWarning):
-    """Pitch is at ±90°: yaw and roll are not separable; roll is set to 0."""
+    """Pitch is at ±90°: yaw and roll are not separable; roll is set to 0.
+
+    Issued by :func:`quat_to_euler` (and so by every ``euler()`` of a motion or of
+    :class:`~imunav.core.states.States`) where ``|cos θ| < GIMBAL_LOCK_TOL``; only ``ψ ∓ φ``
+    is defined there, and it is returned as the yaw. Filter it with :mod:`warnings` where a
+    vertical attitude is expected.
+    """
 
 
 def quat_mul(p: npt.ArrayLike, q: npt.ArrayLike) -> FloatArray:
@@ -350,7 +356,28 @@ def quat_angle(p: npt.ArrayLike, q: npt.ArrayLike) -> FloatArray:
 
 
 def skew(v: npt.ArrayLike) -> FloatArray:
-    """Cross-product matrix ``[v×]`` with ``skew(a) @ b == cross(a, b)``; shape ``(..., 3, 3)``."""
+    """Cross-product matrix ``[v×]``, with ``skew(a) @ b == cross(a, b)``.
+
+    Parameters
+    ----------
+    v : array_like, shape (..., 3)
+        Vectors (any frame and unit; the matrix has the same).
+
+    Returns
+    -------
+    ndarray, shape (..., 3, 3)
+        ``[[0, −v_z, v_y], [v_z, 0, −v_x], [−v_y, v_x, 0]]`` for each vector (antisymmetric).
+
+    Raises
+    ------
+    ImunavError
+        If ``v`` is not numeric, finite, with a last axis of 3.
+
+    Examples
+    --------
+    >>> skew([1.0, 2.0, 3.0]) @ [4.0, 5.0, 6.0]          # = cross([1, 2, 3], [4, 5, 6])
+    array([-3.,  6., -3.])
+    """
     return K.skew(as_float_array(v, "v", last=3))
 
 

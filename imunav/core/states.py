@@ -42,6 +42,21 @@ class States:
     frame : {"flat", "wgs84"}
         The navigation frame: the flat, non-rotating NED frame, or local NED on the rotating
         WGS-84 Earth (:mod:`imunav.earth`).
+
+    Raises
+    ------
+    ImunavError
+        If ``frame`` is not one of :data:`FRAMES`, or ``position``, ``velocity`` or
+        ``quaternion`` does not have shape ``(N, 3)``, ``(N, 3)``, ``(N, 4)`` for the ``N``
+        times of a 1-D ``t``. Values are not checked (the navigation output may drift far).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> s = States(t=np.array([0.0, 0.1]), position=np.zeros((2, 3)),
+    ...            velocity=np.zeros((2, 3)), quaternion=np.tile([1.0, 0, 0, 0], (2, 1)))
+    >>> len(s), s.frame
+    (2, 'flat')
     """
 
     t: FloatArray
@@ -64,9 +79,37 @@ class States:
         return int(np.shape(self.t)[0])
 
     def euler(self) -> FloatArray:
-        """``[yaw, pitch, roll]`` (rad) of the attitude."""
+        """The attitude as Z-Y-X Euler angles.
+
+        Returns
+        -------
+        ndarray, shape (N, 3)
+            ``[yaw, pitch, roll]`` (rad) of each ``q_nb`` (yaw and roll in (−π, π], pitch in
+            [−π/2, π/2]; see :func:`~imunav.core.rotations.quat_to_euler`, which warns with
+            :class:`~imunav.core.rotations.GimbalLockWarning` at pitch ±90°).
+        """
         return quat_to_euler(self.quaternion)
 
     def initial(self) -> tuple[FloatArray, FloatArray, FloatArray]:
-        """``(q0, v0, p0)``: the first row, as navigation takes it."""
+        """The first row, in the order :func:`~imunav.strapdown.registry.navigate` takes it.
+
+        Returns
+        -------
+        q0 : ndarray, shape (4,)
+            ``q_nb`` at ``t[0]``, scalar first.
+        v0 : ndarray, shape (3,)
+            Velocity at ``t[0]`` (m/s, NED).
+        p0 : ndarray, shape (3,)
+            Position at ``t[0]`` (m, NED; on the WGS-84 Earth latitude, longitude in rad and
+            height in m).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> s = States(t=np.array([0.0]), position=np.array([[1.0, 2.0, 3.0]]),
+        ...            velocity=np.zeros((1, 3)), quaternion=np.array([[1.0, 0, 0, 0]]))
+        >>> q0, v0, p0 = s.initial()
+        >>> p0
+        array([1., 2., 3.])
+        """
         return self.quaternion[0], self.velocity[0], self.position[0]

@@ -90,7 +90,23 @@ def _from_env() -> int | None:
 
 
 def kernel_threads() -> int | None:
-    """The BLAS threads imunav's kernels will use here and now (None: BLAS left alone)."""
+    """The BLAS threads imunav's kernels will use here and now.
+
+    The choice of the innermost :func:`blas_threads` block of this thread or task, else the
+    last :func:`set_blas_threads`, else the environment variable ``IMUNAV_BLAS_THREADS``,
+    else 1 (:data:`DEFAULT_THREADS`).
+
+    Returns
+    -------
+    int or None
+        Threads ≥ 1, or None: BLAS left as numpy configured it.
+
+    Raises
+    ------
+    ImunavError
+        If the choice comes from ``IMUNAV_BLAS_THREADS`` and it is neither a whole number ≥ 1
+        nor ``none``.
+    """
     choice = _block_choice.get()
     if choice is _UNSET:
         choice = _process_choice
@@ -176,9 +192,34 @@ def _threadpool_controller():
 
 @contextmanager
 def blas_limit(threads=_UNSET) -> Iterator[None]:
-    """Run the block with the BLAS libraries of the process set to ``threads`` threads
-    (default: :func:`kernel_threads`; ``None``: unchanged), restored when the last block inside
-    a limit leaves. Nested and concurrent blocks share the limit first put in force."""
+    """Run the block with the BLAS libraries of the process set to ``threads`` threads.
+
+    The limit is restored when the last block inside a limit leaves; nested and concurrent
+    blocks share the limit first put in force (see the module's notes on OpenBLAS). Kernels
+    use it through :func:`limit_blas`; a block of library calls that should be pinned as a
+    whole can use it directly.
+
+    Parameters
+    ----------
+    threads : int or None, optional
+        Threads ≥ 1 inside the block; ``None`` leaves BLAS unchanged. Default: the choice in
+        force (:func:`kernel_threads`).
+
+    Yields
+    ------
+    None
+
+    Raises
+    ------
+    ImunavError
+        If ``threads`` is neither None nor a whole number ≥ 1.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> with blas_limit(1):
+    ...     _ = np.ones((50, 50)) @ np.ones((50, 50))
+    """
     global _limiter, _active
     n = kernel_threads() if threads is _UNSET else _check(threads, "blas_limit(threads)")
     with _lock:
@@ -202,8 +243,21 @@ F = TypeVar("F", bound=Callable)
 
 
 def limit_blas(func: F) -> F:
-    """Decorator for a kernel: its calls run inside :func:`blas_limit` (the choice in force
-    when the call is made)."""
+    """Decorator for a kernel: each call runs inside :func:`blas_limit`.
+
+    The number of threads is the choice in force when the call is made (not when the function
+    is decorated). Do not decorate a generator: the limit would be held across each ``yield``.
+
+    Parameters
+    ----------
+    func : callable
+        The kernel.
+
+    Returns
+    -------
+    callable
+        ``func`` wrapped (``functools.wraps``: same name, docstring and signature).
+    """
 
     @functools.wraps(func)
     def kernel(*args, **kwargs):
@@ -214,10 +268,35 @@ def limit_blas(func: F) -> F:
 
 
 def blas_env(threads: int | None = _UNSET, env: dict | None = None) -> dict[str, str]:
-    """A copy of ``env`` (default ``os.environ``) for a child process (a notebook kernel, a
-    worker) that makes its imunav kernels use ``threads`` BLAS threads (default: the choice in
-    force here). With a number, the BLAS libraries' own variables are set to it too, so that
-    the child's other BLAS calls do not start more threads than that either."""
+    """An environment for a child process (a notebook kernel, a worker) with this BLAS choice.
+
+    With a number, the BLAS libraries' own variables (``OPENBLAS_NUM_THREADS``,
+    ``OMP_NUM_THREADS``, ``MKL_NUM_THREADS``) are set to it too, so that the child's other BLAS
+    calls do not start more threads than that either.
+
+    Parameters
+    ----------
+    threads : int or None, optional
+        Threads ≥ 1 for the child's imunav kernels; ``None`` leaves the child's BLAS as numpy
+        configures it. Default: the choice in force here (:func:`kernel_threads`).
+    env : dict, optional
+        The environment to start from (default ``os.environ``); it is copied, not changed.
+
+    Returns
+    -------
+    dict of str to str
+        The copy, with ``IMUNAV_BLAS_THREADS`` set (``"none"`` for None).
+
+    Raises
+    ------
+    ImunavError
+        If ``threads`` is neither None nor a whole number ≥ 1.
+
+    Examples
+    --------
+    >>> blas_env(2, env={})
+    {'IMUNAV_BLAS_THREADS': '2', 'OPENBLAS_NUM_THREADS': '2', 'OMP_NUM_THREADS': '2', 'MKL_NUM_THREADS': '2'}
+    """
     n = kernel_threads() if threads is _UNSET else _check(threads, "blas_env(threads)")
     out = dict(os.environ if env is None else env)
     out[ENV] = "none" if n is None else str(n)

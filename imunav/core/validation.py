@@ -49,6 +49,26 @@ def as_float_array(x: npt.ArrayLike, name: str, *, last: int | None = None,
         Required number of dimensions.
     min_ndim : int
         Minimum number of dimensions.
+
+    Returns
+    -------
+    ndarray of float64
+        ``x`` as an array (not a copy if it already was one of float64).
+
+    Raises
+    ------
+    ImunavError
+        Naming ``name``: if ``x`` is not numeric, has the wrong number of dimensions or the
+        wrong last axis, or contains NaN or inf (the message gives the first such index).
+
+    Examples
+    --------
+    >>> as_float_array([1, 2, 3], "v", last=3)
+    array([1., 2., 3.])
+    >>> as_float_array([1, 2], "v", last=3)
+    Traceback (most recent call last):
+    ...
+    imunav.core.validation.ImunavError: v must have shape (..., 3), got (2,)
     """
     try:
         a = np.asarray(x, dtype=np.float64)
@@ -68,10 +88,32 @@ def as_float_array(x: npt.ArrayLike, name: str, *, last: int | None = None,
 
 
 def check_positive(value, name: str) -> float:
-    """Return ``value`` as float if it is a finite real number > 0, else raise ImunavError.
+    """A finite real number > 0, as float.
 
     Only real numbers are accepted (not ``True``, not the string ``"10"``): files and the API
     must say what they mean; the command line converts its strings before calling this.
+
+    Parameters
+    ----------
+    value : object
+        The value to check.
+    name : str
+        The argument's name, used in the error message.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ImunavError
+        If ``value`` is not a real number (a bool, a string, None …), is NaN or infinite, or
+        is ≤ 0.
+
+    Examples
+    --------
+    >>> check_positive(100, "rate")
+    100.0
     """
     if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real):
         raise ImunavError(f"{name} must be a positive number, got {show(value)}")
@@ -82,13 +124,54 @@ def check_positive(value, name: str) -> float:
 
 
 def check_gravity(g) -> float:
-    """Gravity magnitude (m/s²): a finite number > 0 (``g_n = [0, 0, +g]``)."""
+    """Check a gravity magnitude ``g`` (m/s²; the navigation frame's ``g_n = [0, 0, +g]``).
+
+    Parameters
+    ----------
+    g : float
+        Gravity magnitude (m/s²).
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ImunavError
+        If ``g`` is not a finite real number > 0 (the message names ``g``).
+    """
     return check_positive(g, "g")
 
 
 def check_int(value, name: str, minimum: int = 0) -> int:
-    """An integer ≥ ``minimum`` (``1.7``, ``True`` and ``"3"`` are refused; ``3.0`` is not an
-    integer either: counts and seeds are whole numbers)."""
+    """An integer ≥ ``minimum``, as int.
+
+    ``1.7``, ``True`` and ``"3"`` are refused; ``3.0`` is not an integer either: counts and
+    seeds are whole numbers. numpy integers are accepted.
+
+    Parameters
+    ----------
+    value : object
+        The value to check.
+    name : str
+        The argument's name, used in the error message.
+    minimum : int, default 0
+        The smallest value accepted.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    ImunavError
+        If ``value`` is not an integer (a float, a bool, a string …) or is below ``minimum``.
+
+    Examples
+    --------
+    >>> check_int(3, "runs", minimum=1)
+    3
+    """
     if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Integral):
         raise ImunavError(f"{name} must be an integer ≥ {minimum}, got {show(value)}")
     v = int(value)
@@ -98,7 +181,24 @@ def check_int(value, name: str, minimum: int = 0) -> int:
 
 
 def show(value) -> str:
-    """A value for an error message: plain numbers, not ``np.float64(…)``."""
+    """A value for an error message: plain numbers, not ``np.float64(…)``.
+
+    Parameters
+    ----------
+    value : object
+        Anything; numpy scalars are converted to Python ones first.
+
+    Returns
+    -------
+    str
+        A float with 6 significant digits (``%.6g``), anything else as its ``repr``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> show(np.float64(0.1) + np.float64(0.2)), show("x")
+    ('0.3', "'x'")
+    """
     if isinstance(value, np.generic):
         value = value.item()
     if isinstance(value, float):
@@ -107,7 +207,25 @@ def show(value) -> str:
 
 
 def check_time(t: npt.ArrayLike, name: str = "t") -> np.ndarray:
-    """A 1-D finite, strictly increasing time vector."""
+    """Check a time vector: 1-D, finite and strictly increasing.
+
+    Parameters
+    ----------
+    t : array_like, shape (N,)
+        Times (s).
+    name : str, default "t"
+        The argument's name, used in the error message.
+
+    Returns
+    -------
+    ndarray of float64, shape (N,)
+
+    Raises
+    ------
+    ImunavError
+        If ``t`` is not numeric, not 1-D or not finite, or if a time does not exceed the one
+        before it (the message gives both indices and values).
+    """
     a = as_float_array(t, name, ndim=1)
     if a.size >= 2:
         d = np.diff(a)
@@ -121,8 +239,26 @@ def check_time(t: npt.ArrayLike, name: str = "t") -> np.ndarray:
 
 
 def read_toml(path, what: str) -> dict:
-    """The table of a TOML file (``what`` names it: "motion file", "IMU file"), or one
-    ImunavError for a missing file, a directory, text that is not UTF-8, or malformed TOML."""
+    """Read the table of a TOML file.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file.
+    what : str
+        What the file is, for the error message: ``"motion file"``, ``"IMU file"`` ….
+
+    Returns
+    -------
+    dict
+        The top-level table, as :mod:`tomllib` parses it.
+
+    Raises
+    ------
+    ImunavError
+        One line, for a missing file or a directory, text that is not UTF-8 (with the byte
+        offset), or malformed TOML (with tomllib's line and column).
+    """
     path = Path(path)
     if not path.is_file():
         raise ImunavError(f"{what} not found: {path}")

@@ -74,6 +74,22 @@ def phi_functions(d: FloatArray, h: float) -> tuple[FloatArray, FloatArray, Floa
     return p0, p1, p2
 
 
+#: φ-functions already computed, by (decay rates, step): a filter discretises thousands of steps
+#: of the same few lengths (and their Gauss–Legendre nodes) with the same rates.
+_PHI_CACHE: dict[tuple[bytes, float], tuple[FloatArray, FloatArray, FloatArray]] = {}
+
+
+def _phi_cached(d: FloatArray, h: float) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """:func:`phi_functions`, remembered (at most 4096 entries; a pure function)."""
+    key = (np.ascontiguousarray(d, dtype=float).tobytes(), float(h))
+    hit = _PHI_CACHE.get(key)
+    if hit is None:
+        if len(_PHI_CACHE) >= 4096:
+            _PHI_CACHE.clear()
+        hit = _PHI_CACHE[key] = phi_functions(d, h)
+    return hit
+
+
 def flat_transition(F: FloatArray, B: FloatArray, D: FloatArray, h: float) -> FloatArray:
     """Exact transition over ``h`` of ``[[A, B], [0, diag(D)]]``, ``A`` the flat frame's
     navigation block built from ``F = [f_n×]``.
@@ -104,7 +120,7 @@ def flat_transition(F: FloatArray, B: FloatArray, D: FloatArray, h: float) -> Fl
     Phi[:, 6:9, 3:6] = I3 * h
     Phi[:, 6:9, 6:9] = I3
     if k:
-        p0, p1, p2 = phi_functions(D, h)
+        p0, p1, p2 = _phi_cached(D, h)
         Bphi, Bv = B[:, 0:3], B[:, 3:6]
         G = np.zeros((N, 9, k))
         G += B * p0                                  # B φ0

@@ -56,7 +56,7 @@ import numpy as np
 
 from imunav.core.constants import G0
 from imunav.core.kernels import FloatArray, quat_to_dcm, skew
-from imunav.core.validation import check_gravity, check_positive
+from imunav.core.validation import ImunavError, check_gravity, check_positive
 from imunav.earth import (
     OMEGA_E,
     curvature_matrix,
@@ -78,8 +78,8 @@ from imunav.sensors.models import ImuModel
 from imunav.sensors.simulate import interval_count
 from imunav.sensors.terms import TERMS, LinearisationContext, SensorErrorStates
 
-__all__ = ["DP", "DV", "EARTH", "NAV", "PHI", "EarthErrorModel", "ErrorSource", "FlatErrorModel",
-           "LazyTrajectory", "Trajectory", "error_model", "linearise"]
+__all__ = ["DP", "DV", "EARTH", "EARTH_HOLD", "NAV", "PHI", "EarthErrorModel", "ErrorSource",
+           "FlatErrorModel", "LazyTrajectory", "Trajectory", "error_model", "linearise"]
 
 #: The navigation error states: attitude error φ (rad), velocity error δv (m/s), position
 #: error δp (m), each 3 components in the navigation frame; ``NAV`` = 9 of them.
@@ -789,12 +789,33 @@ class EarthErrorModel(FlatErrorModel):
     columns, in closed form with ``A³ = 0`` and the φ-functions of the decay rates: Γh² ≈ 3e-10
     at 100 Hz, so what is left (Γ² h⁴) is ~1e-19 of a step; :meth:`discretise_generic` (Van
     Loan, the whole matrix) is its independent check.
+
+    Parameters
+    ----------
+    vertical : {"free", "hold"}
+        The vertical channel free, or held at the true height and vertical velocity (a perfect
+        height aid: see :meth:`hold_projection`).
+
+    Raises
+    ------
+    ImunavError
+        For another ``vertical``.
     """
 
     name = "wgs84"
     #: Γ couples δr back into δv: the navigation transition is not unipotent, so the
     #: propagation goes step by step (:func:`~imunav.estimation.propagation.step_blocks`).
     unipotent = False
+
+    def __init__(self, vertical: str = "free"):
+        if vertical not in ("free", "hold"):
+            raise ImunavError(f"vertical must be 'free' or 'hold', got {vertical!r}",
+                              argument="vertical")
+        #: ``"free"``, or ``"hold"``: the vertical channel held at the true height and vertical
+        #: velocity (a perfect height aid): after every step the error state is projected by
+        #: ``T = H⁻¹ Z H`` (``Z`` zeroes δv_D and δp_D in local NED), as the navigation's
+        #: per-step kicks of :mod:`imunav.strapdown.earth` do to first order.
+        self.vertical = vertical
 
     def nav_matrix(self, traj: Trajectory) -> FloatArray:
         """The navigation block ``A`` (N, 9, 9): the flat frame's, plus Γ from δr into δv.
@@ -856,7 +877,33 @@ class EarthErrorModel(FlatErrorModel):
         def phi(s):
             return _with_gravity(flat_transition(F, B, D, s), F, Gm, B, D, s)
 
-        return phi(h), process_noise(phi, source.noise_psd(), h)
+        Phi, Qd = phi(h), process_noise(phi, source.noise_psd(), h)
+        if self.vertical == "hold":
+            T = self.hold_projection(traj, k)
+            Phi = T @ Phi
+            Qd = T @ Qd @ np.swapaxes(T, 1, 2)
+        return Phi, Qd
+
+    def hold_projection(self, traj: Trajectory, k: int = 0) -> FloatArray:
+        """``T = H⁻¹ Z H`` at the end of each step (``Z`` zeroes the down velocity and position
+        errors in local NED), extended by the identity on ``k`` sensor states.
+
+        Parameters
+        ----------
+        traj : Trajectory
+        k : int
+            Sensor states.
+
+        Returns
+        -------
+        ndarray, shape (N, 9 + k, 9 + k)
+        """
+        H = traj.output[1:]
+        Z = np.ones(NAV)
+        Z[[5, 8]] = 0.0
+        T = np.eye(NAV + k)[None].repeat(H.shape[0], axis=0)
+        T[:, :NAV, :NAV] = np.linalg.solve(H, Z[:, None] * H)
+        return T
 
     def discretise_blocks(self, traj: Trajectory, source: ErrorSource, h: float | None = None
                           ) -> StepBlocks:
@@ -885,6 +932,8 @@ class EarthErrorModel(FlatErrorModel):
         var = source.states.differenced_white
         B = self.sensor_input(traj, source.states)
         Gh = self.transition(traj, B, np.zeros(3), h)[:, :NAV, NAV:] / h
+        if self.vertical == "hold":                  # the residual's response held too
+            Gh = self.hold_projection(traj)[:, :NAV, :NAV] @ Gh
         Qnn = Qnn + var * Gh @ np.swapaxes(Gh, 1, 2)
         return StepBlocks(nav, -Gh, np.zeros(3), Qnn, var * Gh, var * np.eye(3))
 
@@ -947,22 +996,38 @@ def _phi_234(d: FloatArray, h: float) -> tuple[FloatArray, FloatArray, FloatArra
     return out[0], out[1], out[2]
 
 
-#: The error model of the rotating WGS-84 Earth.
+#: The error models of the rotating WGS-84 Earth: the vertical channel free, or held.
 EARTH = EarthErrorModel()
+EARTH_HOLD = EarthErrorModel("hold")
 
 
-def error_model(traj: Trajectory) -> FlatErrorModel:
-    """The error model of ``traj``'s frame: :data:`FLAT` or :data:`EARTH`.
+def error_model(traj: Trajectory, vertical: str = "free") -> FlatErrorModel:
+    """The error model of ``traj``'s frame: :data:`FLAT`, :data:`EARTH` or :data:`EARTH_HOLD`.
 
     Parameters
     ----------
     traj : Trajectory
+    vertical : {"free", "hold"}
+        On the Earth: the vertical channel free or held (a perfect height aid).
 
     Returns
     -------
     FlatErrorModel
+
+    Raises
+    ------
+    ImunavError
+        For ``vertical="hold"`` in the flat frame, or another value.
     """
-    return EARTH if traj.frame == "wgs84" else FLAT
+    if vertical not in ("free", "hold"):
+        raise ImunavError(f"vertical must be 'free' or 'hold', got {vertical!r}",
+                          argument="vertical")
+    if traj.frame != "wgs84":
+        if vertical == "hold":
+            raise ImunavError("vertical='hold' applies to the WGS-84 Earth only",
+                              argument="vertical")
+        return FLAT
+    return EARTH_HOLD if vertical == "hold" else EARTH
 
 
 def linearise(model: ImuModel, traj: Trajectory, output: str = "increments", decimate: int = 1

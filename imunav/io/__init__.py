@@ -9,6 +9,7 @@ Modules: :mod:`~imunav.io.files`, :mod:`~imunav.io.csvio`, :mod:`~imunav.io.path
 May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``.
 """
 
+from imunav.io.aiding import read_aiding, write_aiding
 from imunav.io.files import (
     HEADERS,
     INCREMENTS_HEADER,
@@ -34,6 +35,6 @@ from imunav.io.realdata import READERS, Recording, read_generic, read_ximu, read
 
 __all__ = ["HEADERS", "INCREMENTS_HEADER", "POSE_HEADER", "RATES_HEADER", "READERS", "Recording",
            "STATE_HEADER", "STATE_HEADERS", "SignalFile", "WGS84_STATE_HEADER", "load_motion",
-           "load_motion_toml", "load_poses", "load_waypoints", "read_generic",
+           "load_motion_toml", "load_poses", "load_waypoints", "read_aiding", "read_generic",
            "read_initial_state", "read_signals", "read_states", "read_ximu", "read_ximu3",
-           "state_columns", "write_json", "write_signals", "write_states"]
+           "state_columns", "write_aiding", "write_json", "write_signals", "write_states"]

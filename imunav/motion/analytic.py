@@ -80,8 +80,26 @@ class Motion(LawMotion):
     yaw, pitch, roll : str, number or sympy.Expr
         Attitude laws (rad), intrinsic Z-Y-X: ``q_nb = q_z(yaw) ⊗ q_y(pitch) ⊗ q_x(roll)``.
     duration : float, optional
-        Default duration (s) for simulation.
-    name : str, optional
+        Default duration (s) for simulation (None: every run must give one).
+    name : str, default "motion"
+        A name for reports and plots.
+
+    Attributes
+    ----------
+    laws : dict of str to sympy.Expr
+        The six parsed laws, by key (``x y z yaw pitch roll``).
+    expressions : dict of str to list of sympy.Expr
+        Every compiled quantity (position, velocity, acceleration, euler, angular_rate) as
+        SymPy expressions, for inspection and notebooks.
+
+    Raises
+    ------
+    ImunavError
+        If a law is outside the whitelist of :mod:`imunav.motion.laws` (the message names the
+        law and the offending token), a derived quantity is complex-valued, ``duration`` is not
+        a finite number > 0, or ``name`` is not a string. A law that is finite where parsed but
+        not at some time (``log(t - 1)``) raises when it is evaluated there, naming the law and
+        the time.
 
     Notes
     -----
@@ -125,7 +143,35 @@ class Motion(LawMotion):
     def from_dict(cls, spec: Mapping, *, name: str = "motion") -> Motion:
         """Build from ``{"duration": …, "position": {"x": …}, "attitude": {"yaw": …}}``.
 
-        This is the structure of ``MOTION.toml``; unknown keys are errors.
+        This is the structure of ``MOTION.toml`` (:func:`imunav.io.files.load_motion_toml`
+        reads the file); unknown keys are errors.
+
+        Parameters
+        ----------
+        spec : mapping
+            Top-level keys ``duration`` (s), ``name``, ``g`` (accepted for the file's sake: the
+            gravity belongs to the simulation, not to the motion, and is not read here), and
+            the tables ``position`` (keys ``x y z``, laws in m) and ``attitude`` (keys
+            ``yaw pitch roll``, laws in rad). Missing laws are 0.
+        name : str, default "motion"
+            The name when ``spec`` has none.
+
+        Returns
+        -------
+        Motion
+
+        Raises
+        ------
+        ImunavError
+            If ``spec`` or one of its tables is not a mapping, a key is unknown (the message
+            lists the allowed ones), or the constructor refuses a law, the duration or the name.
+
+        Examples
+        --------
+        >>> m = Motion.from_dict({"duration": 10, "position": {"x": "t**2"},
+        ...                       "attitude": {"yaw": "0.1*t"}})
+        >>> m.velocity([1.0])
+        array([[2., 0., 0.]])
         """
         if not isinstance(spec, Mapping):
             raise ImunavError("motion specification must be a table/mapping")
@@ -149,7 +195,24 @@ class Motion(LawMotion):
         return cls(**laws, duration=spec.get("duration"), name=spec.get("name", name))
 
     def euler(self, t):
-        """``[yaw, pitch, roll]`` (rad) straight from the laws (no wrapping)."""
+        """``[yaw, pitch, roll]`` (rad) straight from the laws (not wrapped to ±π).
+
+        Parameters
+        ----------
+        t : array_like
+            Times (s), any shape.
+
+        Returns
+        -------
+        ndarray, shape ``t.shape + (3,)``
+            The attitude laws evaluated at ``t`` (rad).
+
+        Raises
+        ------
+        ImunavError
+            If ``t`` is not a finite numeric array, or a law is not finite (or is complex) at
+            one of the times.
+        """
         return self._eval("euler", t)
 
     def attitude(self, t):

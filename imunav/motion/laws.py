@@ -178,10 +178,29 @@ def parse_law(expr: str | sp.Expr | numbers.Real, name: str) -> sp.Expr:
     name : str
         The law's name (``"x"``, ``"yaw"``, …), used in error messages.
 
+    Returns
+    -------
+    sympy.Expr
+        The law in the real symbol :data:`T` (a number gives a constant: an Integer for a
+        whole number below 2**53, else a Float).
+
     Raises
     ------
     ImunavError
-        Naming the law and the offending token.
+        Naming the law and the offending token: for a bool or another type, an empty string,
+        one longer than :data:`MAX_CHARS` characters or of more than :data:`MAX_NODES` syntax
+        nodes, a syntax error (with its column), a name, operator or function outside the
+        whitelist (a non-smooth one says so), a constant that is complex, not finite, beyond
+        ``±MAX_MAGNITUDE`` or with an exponent beyond ``±MAX_EXPONENT``, or a division by zero.
+
+    Examples
+    --------
+    >>> parse_law("10*sin(0.3*t)", "x")
+    10*sin(0.3*t)
+    >>> parse_law("abs(t)", "x")                     # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    imunav.core.validation.ImunavError: motion law 'x' = 'abs(t)': function 'abs' is not allowed ...
     """
     if isinstance(expr, bool):
         raise ImunavError(f"motion law {name!r} must be a string, number or SymPy expression, "
@@ -224,6 +243,25 @@ def check_expression(e: sp.Basic, name: str) -> sp.Expr:
     """Apply the whitelist to a SymPy expression built in Python.
 
     A user's own ``Symbol("t")`` (with or without assumptions) is taken as :data:`T`.
+
+    Parameters
+    ----------
+    e : sympy.Basic
+        The expression.
+    name : str
+        The law's name, used in error messages.
+
+    Returns
+    -------
+    sympy.Expr
+        ``e`` with its ``t`` replaced by :data:`T`.
+
+    Raises
+    ------
+    ImunavError
+        If ``e`` is not a scalar expression, has more than :data:`MAX_NODES` operations, uses
+        a symbol other than ``t``, the imaginary unit or a function outside :data:`FUNCTIONS`,
+        or is not finite.
     """
     if not isinstance(e, sp.Expr):
         raise ImunavError(f"motion law {name!r} is not a scalar expression")
@@ -254,6 +292,18 @@ def lambdify(expr: sp.Expr):
     """A numpy function ``f(t) → array of t's shape`` for a checked law (or a derivative).
 
     Numeric warnings are silenced here; the caller checks the result (:func:`evaluate`).
+
+    Parameters
+    ----------
+    expr : sympy.Expr
+        A law in :data:`T` that passed the whitelist (or one of its derivatives).
+
+    Returns
+    -------
+    callable
+        ``f(t)`` for an ndarray ``t`` of times (s); a constant law gives a full array of
+        ``t``'s shape. The values may be complex, infinite or NaN: pass them through
+        :func:`evaluate`.
     """
     f = sp.lambdify(T, expr, modules="numpy", cse=True)
     constant = not expr.has(T)
@@ -269,8 +319,36 @@ def lambdify(expr: sp.Expr):
 
 
 def evaluate(f, t: np.ndarray, what: str) -> np.ndarray:
-    """``f(t)`` as float64, or an :class:`ImunavError` naming ``what`` and the first time at
-    which the value is complex, infinite or NaN."""
+    """``f(t)`` as a finite float64 array, checked.
+
+    Parameters
+    ----------
+    f : callable
+        A function from :func:`lambdify`.
+    t : ndarray
+        Times (s), any shape.
+    what : str
+        What ``f`` is, for the error message (``"position law x = '…'"``).
+
+    Returns
+    -------
+    ndarray of float64
+        ``f(t)``, of ``t``'s shape (a complex value with zero imaginary part is taken as real).
+
+    Raises
+    ------
+    ImunavError
+        Naming ``what`` and the first time at which the value is complex, infinite or NaN.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> f = lambdify(parse_law("log(t)", "x"))
+    >>> evaluate(f, np.array([1.0, 0.0]), "x = log(t)")
+    Traceback (most recent call last):
+    ...
+    imunav.core.validation.ImunavError: x = log(t) is not finite (complex, infinite or NaN) at t = 0 s
+    """
     v = f(t)
     if np.iscomplexobj(v):
         bad = np.nonzero(np.imag(v) != 0)[0] if v.ndim else np.array([0])

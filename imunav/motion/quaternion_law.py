@@ -30,11 +30,36 @@ PAPER_K = (0.15, 1.55, 0.35, -1.55)
 class QuaternionLawMotion(LawMotion):
     """A motion whose attitude is a closed-form quaternion ``q_nb(t)`` (SymPy, scalar first).
 
+    The body rate ``ω_b = vec(2 q* ⊗ q̇)`` is differentiated symbolically, so the truth is
+    exact to rounding; position, velocity and acceleration come from the position laws.
+
     Parameters
     ----------
-    q : 4 SymPy expressions in ``imunav.motion.T``
-        The attitude law; it must be a unit quaternion for every t (checked at sample times).
-    x, y, z : position laws (m), as for :class:`imunav.Motion`.
+    q : sequence of 4 str, number or sympy.Expr
+        The attitude law ``[w, x, y, z]`` of ``q_nb`` in ``t`` (:data:`imunav.motion.T`), each
+        passing the whitelist of :mod:`imunav.motion.laws`. It must be a unit quaternion for
+        every t: checked at 17 times evenly spread over ``[0, duration]`` (``[0, 1]`` s without
+        a duration) to 1e-12.
+    x, y, z : str, number or sympy.Expr, default 0
+        Position laws (m, NED), as for :class:`~imunav.motion.analytic.Motion`.
+    duration : float, optional
+        Default duration (s) for simulation.
+    name : str, default "motion"
+        A name for reports, plots and error messages.
+
+    Raises
+    ------
+    ImunavError
+        If a law is outside the whitelist, a derived quantity is complex-valued, ``duration``
+        is not a finite number > 0, or ``|q| = 1`` fails by more than 1e-12 at a checked time.
+
+    Examples
+    --------
+    A steady turn about the vertical at 0.5 rad/s:
+
+    >>> m = QuaternionLawMotion(["cos(t/4)", 0, 0, "sin(t/4)"], duration=10)
+    >>> m.angular_rate([1.0])
+    array([[0. , 0. , 0.5]])
     """
 
     def __init__(self, q, x=0, y=0, z=0, *, duration: float | None = None, name: str = "motion"):
@@ -68,10 +93,19 @@ class FourRotationMotion(BaseMotion):
     ----------
     phi, psi, vartheta, chi : str, number or sympy.Expr, optional
         Angle laws (rad) in ``t``. Defaults: linear laws ``k₁t, k₂t, k₃t, k₄t``.
-    k : 4 floats
-        Frequencies for the default linear laws (the paper's Fig. 1–3 values by default).
-    duration : float
-        Default duration (s).
+    k : sequence of 4 float, default PAPER_K
+        Frequencies (rad/s) of the default linear laws, in the order φ, ψ, ϑ, χ (the paper's
+        Fig. 1–3 values ``(0.15, 1.55, 0.35, −1.55)`` by default). Ignored for a law given.
+    duration : float, default 1000.0
+        Default duration (s) for simulation.
+    name : str, default "four_rotation"
+        A name for reports and plots.
+
+    Raises
+    ------
+    ImunavError
+        If ``k`` is not 4 finite numbers, a law is outside the whitelist of
+        :mod:`imunav.motion.laws`, or ``duration`` is not a finite number > 0.
 
     Notes
     -----
@@ -100,7 +134,32 @@ class FourRotationMotion(BaseMotion):
         self.name = name
 
     def angles(self, t: npt.ArrayLike) -> tuple[FloatArray, FloatArray]:
-        """``(angles, rates)`` each of shape ``t.shape + (4,)``: (φ, ψ, ϑ, χ) and their rates."""
+        """The four angle laws and their exact time derivatives.
+
+        Parameters
+        ----------
+        t : array_like
+            Times (s), any shape.
+
+        Returns
+        -------
+        angles : ndarray, shape ``t.shape + (4,)``
+            ``(φ, ψ, ϑ, χ)`` (rad).
+        rates : ndarray, shape ``t.shape + (4,)``
+            ``(φ̇, ψ̇, ϑ̇, χ̇)`` (rad/s).
+
+        Raises
+        ------
+        ImunavError
+            If ``t`` is not a finite numeric array, or a law or its rate is not finite at one
+            of the times.
+
+        Examples
+        --------
+        >>> angles, rates = FourRotationMotion().angles([2.0])
+        >>> rates                                   # the default linear laws: the paper's k
+        array([[ 0.15,  1.55,  0.35, -1.55]])
+        """
         t = times(t)
         a = np.stack([evaluate(f, t, what) for f, what in self._ang], -1)
         r = np.stack([evaluate(f, t, what) for f, what in self._rate], -1)

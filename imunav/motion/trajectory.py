@@ -96,14 +96,63 @@ class _Spline(BaseMotion):
 class PoseMotion(_Spline):
     """Timed poses as a smooth motion (see the module docstring).
 
+    Position is a quintic spline through (or, with ``smoothing``, near) the positions, attitude
+    scipy's ``RotationSpline`` through the attitudes; velocity, acceleration, specific force and
+    body rate are their exact derivatives. The motion starts at the first pose (its t = 0) and
+    is defined only up to the last one: asking outside ``[0, duration]`` raises.
+
     Parameters
     ----------
-    t : (n,) strictly increasing times (s), n ≥ 6
-    position : (n, 3) NED positions (m)
-    attitude : (n, 4) ``q_nb`` quaternions, scalar first, unit norm (to 1e-6)
-    smoothing : noise standard deviation of the positions (m), or None to interpolate
-    attitude_smoothing : noise standard deviation of the attitudes (rad), or None
-    row_name, first_row : how errors name a pose (``"line"``, 2 for a CSV file's data rows)
+    t : array_like, shape (n,)
+        Strictly increasing times (s), n ≥ 6 (:data:`MIN_POSES`); any start.
+    position : array_like, shape (n, 3)
+        Positions (m, NED).
+    attitude : array_like, shape (n, 4)
+        ``q_nb`` quaternions, scalar first, unit norm to 1e-6 (then normalised; the signs are
+        made continuous, since q and −q are the same attitude).
+    smoothing : float, optional
+        Noise standard deviation of the positions (m): a quintic smoothing spline with
+        residual sum ``n σ²`` replaces the interpolating one. None (default): interpolate.
+    attitude_smoothing : float, optional
+        Noise standard deviation of the attitudes (rad): the quaternion components are
+        smoothed the same way first. None (default): interpolate.
+    name : str, default "poses"
+        A name for reports, plots and error messages.
+    row_name : str, default "pose"
+        How errors name a pose (``"line"`` for a CSV file).
+    first_row : int, default 1
+        The number errors give the first pose (2 for a CSV file's first data line).
+
+    Attributes
+    ----------
+    duration : float
+        ``t[-1] − t[0]`` (s).
+    time_offset : float
+        ``t[0]`` (s): the source time of the motion's t = 0.
+    breakpoints : ndarray, shape (n,)
+        The pose times from 0 (s): the exact increments are integrated piece by piece between
+        them.
+    bounded : bool
+        True: runs stop at the last whole sample inside the data.
+
+    Raises
+    ------
+    ImunavError
+        If the times are not strictly increasing (naming the pose by ``row_name`` and
+        ``first_row``), there are fewer than 6 poses, the arrays are not finite or their
+        lengths differ, a quaternion's norm is not 1 to 1e-6 (naming the pose), or a smoothing
+        level is not a finite number > 0. Every method raises for times outside
+        ``[0, duration]`` (beyond 1e-9 s).
+
+    Examples
+    --------
+    Poses of a body moving north at 2 m/s, level:
+
+    >>> import numpy as np
+    >>> t = np.arange(8.0)
+    >>> m = PoseMotion(t, np.c_[2 * t, 0 * t, 0 * t], np.tile([1.0, 0, 0, 0], (8, 1)))
+    >>> m.duration, np.round(m.velocity([3.5]), 12)
+    (7.0, array([[2., 0., 0.]]))
     """
 
     def __init__(self, t, position, attitude, *, smoothing: float | None = None,
@@ -205,8 +254,29 @@ def _at_rest_spline(t: FloatArray, y: FloatArray):
 
 
 def euler_rates_to_body(ypr: FloatArray, rates: FloatArray) -> FloatArray:
-    """ω_b from Z-Y-X Euler angles and their rates: ``[φ̇ − ψ̇ sin θ,
-    θ̇ cos φ + ψ̇ cos θ sin φ, −θ̇ sin φ + ψ̇ cos θ cos φ]``."""
+    """Body rate ω_b from Z-Y-X Euler angles and their rates.
+
+    ``ω_b = [φ̇ − ψ̇ sin θ,  θ̇ cos φ + ψ̇ cos θ sin φ,  −θ̇ sin φ + ψ̇ cos θ cos φ]`` (the vector
+    part of ``2 q* ⊗ q̇`` for ``q = q_z(ψ) ⊗ q_y(θ) ⊗ q_x(φ)``).
+
+    Parameters
+    ----------
+    ypr : ndarray, shape (..., 3)
+        ``[yaw ψ, pitch θ, roll φ]`` (rad).
+    rates : ndarray, shape (..., 3)
+        ``[ψ̇, θ̇, φ̇]`` (rad/s), same leading shape (not checked: an internal kernel).
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        ω_b (rad/s).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> euler_rates_to_body(np.zeros(3), np.array([0.1, 0.0, 0.0]))   # yaw rate when level
+    array([0. , 0. , 0.1])
+    """
     _, th, ph = np.moveaxis(ypr, -1, 0)
     dps, dth, dph = np.moveaxis(rates, -1, 0)
     return np.stack([dph - dps * np.sin(th),
@@ -217,13 +287,58 @@ def euler_rates_to_body(ypr: FloatArray, rates: FloatArray) -> FloatArray:
 class WaypointMotion(_Spline):
     """A route of timed waypoints, at rest at both ends (see the module docstring).
 
+    Position is a quintic spline through the waypoints with zero velocity and acceleration at
+    both ends. The motion starts at the first waypoint (its t = 0) and is defined only up to
+    the last one: asking outside ``[0, duration]`` raises.
+
     Parameters
     ----------
-    t : (n,) strictly increasing times (s), n ≥ 2
-    position : (n, 3) NED positions (m)
-    ypr : (n, 3) yaw, pitch, roll (rad) for ``orientation="given"`` (None: all zero)
-    orientation : ``"given"`` or ``"follow"``
-    g : gravity for the coordinated-turn roll of ``"follow"`` (m/s²)
+    t : array_like, shape (n,)
+        Strictly increasing times (s), n ≥ 2; any start.
+    position : array_like, shape (n, 3)
+        Positions (m, NED).
+    ypr : array_like, shape (n, 3), optional
+        Yaw, pitch, roll (rad) at each waypoint for ``orientation="given"`` (yaw and roll are
+        unwrapped, then splined the same way, at rest at both ends). None: all zero. Ignored
+        for ``"follow"``.
+    orientation : {"given", "follow"}, default "given"
+        ``"follow"`` derives the attitude from the path: yaw along the horizontal velocity,
+        pitch along the climb ``atan2(−v_d, |v_h|)``, roll of a coordinated turn
+        ``atan(|v|·ψ̇/g)``.
+    g : float, default G0
+        Gravity (m/s²) of the coordinated-turn roll of ``"follow"``.
+    name : str, default "waypoints"
+        A name for reports, plots and error messages.
+
+    Attributes
+    ----------
+    duration : float
+        ``t[-1] − t[0]`` (s).
+    time_offset : float
+        ``t[0]`` (s): the source time of the motion's t = 0.
+    breakpoints : ndarray, shape (n,)
+        The waypoint times from 0 (s).
+    bounded : bool
+        True: runs stop at the last whole sample inside the route.
+
+    Raises
+    ------
+    ImunavError
+        If the times are not strictly increasing (naming the waypoint), there are fewer than
+        2 waypoints, ``orientation`` is unknown, the arrays are not finite or their lengths
+        differ, or — for ``"follow"`` — the horizontal velocity vanishes somewhere inside the
+        route (the heading is undefined there; checked on a grid of 64 points per leg). Every
+        method raises for times outside ``[0, duration]`` (beyond 1e-9 s).
+
+    Examples
+    --------
+    A 100 m move north in 20 s, facing along the path:
+
+    >>> m = WaypointMotion([0.0, 20.0], [[0, 0, 0], [100, 0, 0]], orientation="follow")
+    >>> float(m.velocity([10.0])[0, 0])                   # fastest half-way (m/s)
+    9.375
+    >>> m.velocity([0.0, 20.0]).tolist()                  # at rest at both ends
+    [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]
     """
 
     def __init__(self, t, position, ypr=None, *, orientation: str = "given", g: float = G0,

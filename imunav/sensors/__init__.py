@@ -2,13 +2,15 @@
 errors.
 
 Modules: :mod:`~imunav.sensors.signals` (:class:`ImuSignals`), :mod:`~imunav.sensors.simulate`
-(ideal rates and exact increments), :mod:`~imunav.sensors.models` (error models from
+(ideal rates and exact increments), :mod:`~imunav.sensors.aiding` (the aiding sensors:
+AIDING.toml, their simulation, the SHOE detector), :mod:`~imunav.sensors.models` (error models from
 datasheets), :mod:`~imunav.sensors.terms` (the error terms: units, realisation,
 linearisation), :mod:`~imunav.sensors.presets`, :mod:`~imunav.sensors.allan`.
 
 May import: ``imunav.core``, ``imunav.motion``.
 """
 
+from imunav.sensors.aiding import AidingConfig, AidingData, Readings, simulate_aiding
 from imunav.sensors.allan import allan_deviation, fit_allan, gauss_markov_allan_variance
 from imunav.sensors.models import (
     ImuModel,
@@ -24,7 +26,8 @@ from imunav.sensors.signals import KINDS, ImuSignals
 from imunav.sensors.simulate import sample_times, simulate_imu, truth_states
 from imunav.sensors.terms import TERMS, Term, bias_instability_sigma, register
 
-__all__ = ["KINDS", "PRESETS", "TERMS", "ImuModel", "ImuSignals", "MeasureStream", "TriadModel",
+__all__ = ["KINDS", "PRESETS", "TERMS", "AidingConfig", "AidingData", "ImuModel", "Readings",
+           "ImuSignals", "MeasureStream", "TriadModel",
            "TriadStream", "allan_deviation", "apply_triad", "bias_instability_sigma", "fit_allan",
            "gauss_markov_allan_variance", "integrate_consecutive", "integrate_intervals",
-           "measure", "register", "sample_times", "simulate_imu", "Term", "truth_states"]
+           "measure", "register", "sample_times", "simulate_aiding", "simulate_imu", "Term", "truth_states"]

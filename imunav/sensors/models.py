@@ -89,6 +89,32 @@ class TriadModel:
         shown = ", ".join(f"{k}={v!r}" for k, v in self._values.items() if v != known[k])
         return f"TriadModel({shown})"
 
+    def replace(self, **changes) -> TriadModel:
+        """A copy with some parameters changed (the model itself is immutable).
+
+        Parameters
+        ----------
+        **changes : float or None
+            SI values keyed by parameter, as for the constructor.
+
+        Returns
+        -------
+        TriadModel
+
+        Raises
+        ------
+        TypeError
+            If a key is not a parameter of the registered terms.
+
+        Examples
+        --------
+        >>> TriadModel(bias=1e-3).replace(bias=2e-3).bias
+        0.002
+        """
+        return TriadModel(**{**self._values, **changes})
+
+    __replace__ = replace            # copy.replace (Python 3.13)
+
     def values(self) -> dict[str, float | None]:
         """Every parameter and its value (defaults included), in registry order.
 

@@ -182,7 +182,7 @@ class StreamNavigator:
 
     def __init__(self, kind: str, rate: float, q0, v0, p0, g: float = G0, *,
                  algorithm: str | None = None, runs: int | None = None, chunk: int = CHUNK,
-                 t0: float = 0.0, earth: str = "flat"):
+                 t0: float = 0.0, earth: str = "flat", hold=None):
         self.algo = resolve(kind, algorithm)
         self.t0 = float(t0)
         self.h = 1.0 / check_positive(rate, "rate")
@@ -194,11 +194,14 @@ class StreamNavigator:
         per = max(1, chunk // max(1, runs or 1))
         if earth == "wgs84":
             # the body-frame algorithm in the inertial frame, without gravity (EarthIntegrator)
-            self.earth = EarthIntegrator(self.h, self.t0, q0, v0, p0)
+            self.earth = EarthIntegrator(self.h, self.t0, q0, v0, p0, hold=hold)
             zero = np.zeros(np.shape(v0))
             self.state, self.g = (self.earth.q_ib, zero, zero), 0.0
             per = min(per, max(1, int(EARTH_CHUNK_SECONDS * rate)))
         else:
+            if hold is not None:
+                raise ImunavError("hold applies to earth='wgs84' only (the flat frame has no "
+                                  "vertical instability)", argument="hold")
             self.earth = None
             self.g = check_gravity(g)
             self.state = (q0, v0, p0)
@@ -288,7 +291,7 @@ def _collect(nav: StreamNavigator, gyro, accel, q0, v0, p0) -> tuple[FloatArray,
 
 def navigate(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike = (0.0, 0.0, 0.0),
              p0: npt.ArrayLike = (0.0, 0.0, 0.0), *, algorithm: str | None = None,
-             g: float | None = None, earth: str = "flat") -> States:
+             g: float | None = None, earth: str = "flat", hold=None) -> States:
     """Integrate IMU signals from an initial state.
 
     Parameters
@@ -309,6 +312,9 @@ def navigate(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike = (0.0, 0
     earth : {"flat", "wgs84"}
         The navigation frame: flat and non-rotating, or the rotating WGS-84 Earth
         (:mod:`imunav.strapdown.earth`: Earth rate, transport rate, Coriolis, normal gravity).
+    hold : callable, optional
+        On the Earth: ``hold(t) → (h, v_d)``, the heights (m) and down velocities (m/s) at the
+        state times ``t`` to hold the vertical channel at (a perfect height aid); default free.
 
     Returns
     -------
@@ -330,19 +336,19 @@ def navigate(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike = (0.0, 0
         raise ImunavError(f"{signals.kind} signals need at least {algo.min_samples} samples, "
                           f"got {len(signals)}")
     nav = StreamNavigator(signals.kind, signals.rate, q0, v0, p0, g, algorithm=algo.name,
-                          t0=signals.t0, earth=earth)
+                          t0=signals.t0, earth=earth, hold=hold)
     q, v, p = _collect(nav, signals.gyro, signals.accel, q0, v0, p0)
     return States(signals.state_times(), p, v, q, algo.name, frame=earth)
 
 
 def navigate_batch(kind: str, gyro: FloatArray, accel: FloatArray, rate: float,
                    q0: npt.ArrayLike, v0: npt.ArrayLike, p0: npt.ArrayLike, g: float = G0, *,
-                   algorithm: str | None = None, earth: str = "flat", t0: float = 0.0
-                   ) -> tuple[FloatArray, FloatArray, FloatArray]:
+                   algorithm: str | None = None, earth: str = "flat", t0: float = 0.0,
+                   hold=None) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Integrate R runs at once: ``gyro``/``accel`` of shape (N, R, 3), from the same or per-run
     initial states (``q0`` (4,) or (R, 4), ``v0``/``p0`` (3,) or (R, 3)). Returns ``(q, v, p)``
-    of shapes (N+1 or N, R, 4|3) as :func:`navigate` does for one run (``earth``: as there;
-    ``t0`` the start time)."""
+    of shapes (N+1 or N, R, 4|3) as :func:`navigate` does for one run (``earth``, ``hold``:
+    as there; ``t0`` the start time)."""
     algo = resolve(kind, algorithm)
     gyro = as_float_array(gyro, "gyro", ndim=3, last=3)
     accel = as_float_array(accel, "accel", ndim=3, last=3)
@@ -356,7 +362,7 @@ def navigate_batch(kind: str, gyro: FloatArray, accel: FloatArray, rate: float,
     v0 = np.ascontiguousarray(np.broadcast_to(as_float_array(v0, "v0", last=3), (R, 3)))
     p0 = np.ascontiguousarray(np.broadcast_to(as_float_array(p0, "p0", last=3), (R, 3)))
     nav = StreamNavigator(kind, rate, q0, v0, p0, g, algorithm=algo.name, runs=R, earth=earth,
-                          t0=t0)
+                          t0=t0, hold=hold)
     return _collect(nav, gyro, accel, q0, v0, p0)
 
 

@@ -433,11 +433,10 @@ assert abs(fitted.gyro.noise_density / adis.gyro.noise_density - 1) < 0.05
 
 # %% tags=["hide-cell"] jupyter={"source_hidden": true, "outputs_hidden": true}
 # Solution
-from dataclasses import replace  # noqa: E402
 
 term = "accel.misalignment"
 before = float(cov_walk.position_quantile(0.95, term=term, index=-1))
-half = ImuModel(adis.gyro, replace(adis.accel, misalignment=adis.accel.misalignment / 2),
+half = ImuModel(adis.gyro, adis.accel.replace(misalignment=adis.accel.misalignment / 2),
                 "half misalignment")
 after = float(covariance(walk, half, 100.0).position_quantile(0.95, term=term, index=-1))
 print(f"{name(term)}: {before:.3f} m → predicted {before / 2:.3f} m, computed {after:.3f} m")
