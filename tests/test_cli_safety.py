@@ -168,6 +168,90 @@ def test_allan_says_which_terms_a_static_log_cannot_give(folder, capsys):
         assert "accel.misalignment" in text and "add them from the datasheet" in text
 
 
+# ------------------------------------------------- 4. internal errors become one line + exit 2
+
+
+def _poses(path, t):
+    rows = [f"{ti!r},{0.1 * min(ti, 10.0)!r},0,0,1,0,0,0" for ti in map(float, t)]
+    Path(path).write_text("t,x,y,z,qw,qx,qy,qz\n" + "\n".join(rows) + "\n")
+
+
+def test_a_pose_csv_whose_last_time_is_1e300_is_refused_on_its_line(folder, capsys):
+    """4. It was an internal LinAlgError (the spline's collocation matrix is singular)."""
+    t = np.linspace(0, 10, 50)
+    t[-1] = 1e300
+    _poses("poses.csv", t)
+    assert _simulate_file("poses.csv") == 2
+    msg = _one_error(capsys)
+    assert "poses.csv, line 51: t = 1e+300" in msg and "ten years" in msg
+
+
+def test_poses_closer_than_a_microsecond_are_refused_on_their_line(folder, capsys):
+    t = np.linspace(0, 10, 50)
+    t[20] = t[19] + 1e-9
+    _poses("poses.csv", t)
+    assert _simulate_file("poses.csv") == 2
+    assert "poses.csv, line 22:" in _one_error(capsys)
+
+
+def test_waypoints_at_0_and_1e_300_are_refused(folder, capsys):
+    """4. It was an internal 'array must not contain infs or NaNs'."""
+    Path("wp.toml").write_text("[[waypoint]]\nt = 0\nx = 0\ny = 0\nz = 0\n"
+                               "[[waypoint]]\nt = 1e-300\nx = 1\ny = 0\nz = 0\n")
+    assert _simulate_file("wp.toml") == 2
+    msg = _one_error(capsys)
+    assert "wp.toml: waypoint 2: t = 1e-300 is only 1e-300 s after the previous one" in msg
+
+
+@pytest.mark.parametrize("value", ["1e300", '"1e300 deg/h"', "1e10"])
+def test_an_imu_bias_beyond_any_sensor_is_refused(folder, capsys, value):
+    """4. `bias = 1e300` overflowed (OverflowError) or ran on to a silent inf."""
+    Path("imu.toml").write_text(f"[gyro]\nbias = {value}\n")
+    assert _simulate("s.csv", "--imu", "imu.toml") == 2
+    msg = _one_error(capsys)
+    assert "gyro.bias = " in msg and "beyond any sensor: at most 1e+09 rad/s" in msg
+    assert not Path("s.csv").exists()
+
+
+def test_a_range_of_zero_is_refused_not_taken_as_no_range(folder, capsys):
+    """10. `[gyro] range = 0` was read as 'no range'."""
+    Path("imu.toml").write_text("[gyro]\nrange = 0\n")
+    assert _simulate("s.csv", "--imu", "imu.toml") == 2
+    assert "gyro.range = 0: it must be > 0" in _one_error(capsys)
+
+
+NESTED = "sin(" * 150 + "t" + ")" * 150
+
+
+def test_a_law_of_150_nested_functions_is_refused_in_one_line(folder, capsys):
+    """4. A law within the length limit raised RecursionError (CLI and Python API)."""
+    Path("deep.toml").write_text(f'duration = 2.0\n[position]\nx = "{NESTED}"\n')
+    assert _simulate_file("deep.toml") == 2
+    assert "nests functions and powers 150 deep; the limit is 30" in _one_error(capsys)
+
+
+def test_deep_laws_from_the_python_api_raise_imunav_error():
+    import sympy as sp
+
+    from imunav.core.validation import ImunavError
+    from imunav.motion import Motion
+
+    with pytest.raises(ImunavError, match="150 deep"):
+        Motion(x=NESTED, duration=2)
+    e = sp.Symbol("t")
+    for _ in range(150):
+        e = sp.sin(e)
+    with pytest.raises(ImunavError, match="150 deep"):
+        Motion(x=e, duration=2)
+    with pytest.raises(ImunavError, match="deep; the limit is 30"):   # divisions nest too
+        Motion(x="1/(1+" * 40 + "t" + ")" * 40, duration=2)
+    Motion(x="sin(" * 30 + "t" + ")" * 30, duration=2)                # at the limit: taken
+
+
+def _simulate_file(path):
+    return main(["simulate", path, "--rate", "20", "--out", "s.csv"])
+
+
 # ------------------------------------------------------------------------- exit statuses
 
 

@@ -57,6 +57,12 @@ MIN_POSES = 6
 EDGE = 1e-9
 
 
+#: The data's times: intervals of at least a microsecond (no capture or route is denser; a
+#: spline's collocation needs them resolved), spans of at most ten years.
+MIN_INTERVAL = 1e-6
+MAX_SPAN = 3.2e8
+
+
 def _check_times(t: npt.ArrayLike, what: str, first_row: int = 1) -> FloatArray:
     t = as_float_array(t, "t", ndim=1)
     bad = np.nonzero(np.diff(t) <= 0)[0]
@@ -64,6 +70,16 @@ def _check_times(t: npt.ArrayLike, what: str, first_row: int = 1) -> FloatArray:
         i = int(bad[0]) + 1
         raise ImunavError(f"{what} {i + first_row}: t = {t[i]:.10g} is not after the previous "
                           f"t = {t[i - 1]:.10g} (times must strictly increase)")
+    small = np.nonzero(np.diff(t) < MIN_INTERVAL)[0]
+    if small.size:
+        i = int(small[0]) + 1
+        raise ImunavError(f"{what} {i + first_row}: t = {t[i]:.10g} is only "
+                          f"{t[i] - t[i - 1]:.3g} s after the previous one (at least "
+                          f"{MIN_INTERVAL:g} s apart)")
+    if t.size and t[-1] - t[0] > MAX_SPAN:
+        raise ImunavError(f"{what} {t.size - 1 + first_row}: t = {t[-1]:.10g} is "
+                          f"{t[-1] - t[0]:.3g} s after the first (at most {MAX_SPAN:g} s, ten "
+                          "years)")
     return t
 
 
