@@ -252,6 +252,103 @@ def _simulate_file(path):
     return main(["simulate", path, "--rate", "20", "--out", "s.csv"])
 
 
+# ---------------------------------------------------- 6. long smoothing fits: bounded, stoppable
+
+
+def _noisy_poses(path, n, rate=100.0, noise=1e-3):
+    rng = np.random.default_rng(6)
+    t = np.arange(n) / rate
+    x = np.sin(0.3 * t) + rng.normal(0, noise, n)
+    np.savetxt(path, np.column_stack([t, x, 0 * t, 0 * t, 1 + 0 * t, 0 * t, 0 * t, 0 * t]),
+               delimiter=",", comments="", header="t,x,y,z,qw,qx,qy,qz")
+
+
+def test_too_many_poses_for_a_smoothing_spline_are_refused_up_front(folder, capsys, monkeypatch):
+    """6. 1e6 poses with --smoothing ran more than 15 minutes with no progress."""
+    import imunav.motion.trajectory as trajectory
+    from imunav.core.validation import ImunavError
+    from imunav.motion import PoseMotion
+
+    n = trajectory.MAX_SMOOTHED_POSES + 1
+    t = np.arange(n) / 100.0
+    with pytest.raises(ImunavError, match="attitude_smoothing of 200001 poses: too many"):
+        PoseMotion(t, np.zeros((n, 3)), np.tile([1.0, 0, 0, 0], (n, 1)),
+                   attitude_smoothing=1e-3)
+    monkeypatch.setattr(trajectory, "MAX_SMOOTHED_POSES", 100)
+    _noisy_poses("poses.csv", 101)
+    assert main(["simulate", "poses.csv", "--rate", "20", "--out", "s.csv",
+                 "--smoothing", "1e-3"]) == 2
+    assert _one_error(capsys).startswith("imunav: error: poses.csv: --smoothing of 101 poses: "
+                                         "too many")
+    assert not Path("s.csv").exists()
+
+
+def test_a_long_smoothing_fit_shows_progress_and_stops_on_sigterm(folder):
+    """6. Inside FITPACK SIGTERM was ignored until the fit ended (minutes): the fit now runs in
+    a worker thread and the main thread answers the signal. σ far below the noise makes
+    FITPACK nearly interpolate 5000 poses (about two minutes a column)."""
+    import signal
+    import time
+
+    _noisy_poses("poses.csv", 5000)
+    proc = subprocess.Popen([sys.executable, "-m", "imunav", "simulate", "poses.csv", "--rate",
+                             "20", "--out", "s.csv", "--smoothing", "1e-7"],
+                            stderr=subprocess.PIPE, text=True)
+    chunks: list[str] = []
+    reader = threading.Thread(target=lambda: chunks.extend(iter(lambda: proc.stderr.read(1), "")),
+                              daemon=True)
+    reader.start()
+    try:
+        deadline = time.monotonic() + 120
+        while "smoothing spline" not in "".join(chunks):      # the progress bar
+            assert proc.poll() is None and time.monotonic() < deadline, "".join(chunks)
+            time.sleep(0.2)
+        sent = time.monotonic()
+        proc.send_signal(signal.SIGTERM)
+        proc.wait(timeout=30)
+    finally:
+        proc.kill()                                           # never left running
+        proc.wait()
+    reader.join(10)
+    err = "".join(chunks)
+    assert time.monotonic() - sent < 10
+    assert proc.returncode == 143, err
+    assert "imunav: terminated; no output was written" in err
+    assert not Path("s.csv").exists() and not list(folder.glob(".*imunav-tmp"))
+
+
+# ------------------------------------------------------ 10. quaternions: one rule for every file
+
+
+def test_poses_written_with_five_decimals_are_normalised_not_refused(folder, capsys):
+    """10. Pose CSVs of 5–6 decimals were refused row by row (norm to 1e-6) with no way out."""
+    from imunav.io.files import load_motion
+
+    t = np.arange(20) * 0.1
+    yaw = 0.3 * t
+    q = np.column_stack([np.cos(yaw / 2), 0 * t, 0 * t, np.sin(yaw / 2)])
+    rows = "".join(f"{ti:.1f},{0.5 * ti:.5f},0,0,{a:.5f},{b:.5f},{c:.5f},{d:.5f}\n"
+                   for ti, (a, b, c, d) in zip(t, q, strict=True))
+    Path("poses.csv").write_text("t,x,y,z,qw,qx,qy,qz\n" + rows)
+    assert np.abs(np.linalg.norm(np.round(q, 5), axis=1) - 1).max() > 1e-6   # the old limit
+    motion, _, _ = load_motion("poses.csv")
+    np.testing.assert_allclose(motion.attitude(t), q, atol=2e-5)
+    assert _simulate_file("poses.csv") == 0
+
+
+def test_an_initial_quaternion_of_norm_2_is_refused_not_normalised(folder, capsys):
+    """10. `--initial` with a quaternion 2,0,0,0 was normalised silently."""
+    assert _simulate("s.csv", "--truth", "truth.csv") == 0
+    lines = Path("truth.csv").read_text().splitlines()
+    cells = lines[1].split(",")
+    cells[7:11] = ["2", "0", "0", "0"]
+    Path("init.csv").write_text(lines[0] + "\n" + ",".join(cells) + "\n")
+    assert main(["navigate", "s.csv", "--initial", "init.csv", "--out", "n.csv"]) == 2
+    assert _one_error(capsys) == ("imunav: error: init.csv, line 2: quaternion norm 2 is not 1 "
+                                  "(to 0.001; expected a unit q_nb, scalar first)")
+    assert not Path("n.csv").exists()
+
+
 # ------------------------------------------------------------------------- exit statuses
 
 

@@ -34,7 +34,13 @@ from imunav.core.constants import G0
 from imunav.core.resources import check_memory
 from imunav.core.rotations import FloatArray
 from imunav.core.states import States
-from imunav.core.validation import ImunavError, check_gravity, check_positive, read_toml
+from imunav.core.validation import (
+    ImunavError,
+    check_gravity,
+    check_positive,
+    read_toml,
+    unit_quaternions,
+)
 from imunav.io.csvio import (
     CsvWriter,
     OutputFile,
@@ -124,7 +130,8 @@ def load_poses(path: str | Path, *, smoothing: float | None = None,
                             row_name=f"{path}, line", first_row=2)
     except ImunavError as exc:
         msg = str(exc)
-        raise ImunavError(msg if msg.startswith(str(path)) else f"{path}: {msg}") from None
+        raise ImunavError(msg if msg.startswith(str(path)) else f"{path}: {msg}",
+                          argument=exc.argument) from None
     return motion, motion.duration, None
 
 
@@ -291,9 +298,7 @@ def _states_header(path: Path) -> tuple[tuple[str, ...], str]:
 
 
 def _states(path: Path, data: np.ndarray, frame: str = "flat") -> States:
-    q = data[:, 7:11]
-    if np.any(np.linalg.norm(q, axis=1) < 1e-12):
-        raise ImunavError(f"{path}: quaternion columns qw,qx,qy,qz must not be all zero")
+    q = unit_quaternions(data[:, 7:11], f"{path}, line", 2)
     t = data[:, 0]
     if t.size > 1 and np.any(np.diff(t) <= 0):
         i = int(np.argmax(np.diff(t) <= 0))
