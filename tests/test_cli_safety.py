@@ -349,6 +349,44 @@ def test_an_initial_quaternion_of_norm_2_is_refused_not_normalised(folder, capsy
     assert not Path("n.csv").exists()
 
 
+# ------------------------------------- 8. a model the covariance cannot represent: NOT SUITABLE
+
+
+SLOW_IMU = """[gyro]
+noise_density = "0.01 deg/s/sqrt(Hz)"
+bandwidth = "10 Hz"
+internal_rate = "10 Hz"
+[accel]
+noise_density = "100 ug/sqrt(Hz)"
+bandwidth = "10 Hz"
+internal_rate = "10 Hz"
+"""
+
+
+def test_a_deterministic_error_beyond_the_tolerance_makes_the_covariance_verdict_not_suitable(
+        folder, capsys):
+    """8. internal_rate and bandwidth of 10 Hz at an output of 100 Hz: the covariance said
+    SUITABLE while its own warning gave 24.7 m against 5 m; Monte Carlo finds 0 % within."""
+    from imunav.analysis.assessment import assess
+    from imunav.io.files import load_motion
+    from imunav.sensors.models import ImuModel
+
+    Path("imu.toml").write_text(SLOW_IMU)
+    Path("eight.toml").write_text(Path(__file__).parents[1].joinpath(
+        "examples", "figure_eight.toml").read_text())
+    assert main(["assess", "eight.toml", "--imu", "imu.toml", "--rate", "100", "--tolerance", "5",
+                 "--check", "--json", "v.json"]) == 1
+    out = capsys.readouterr().out
+    assert "NOT SUITABLE: the filter and range alone, without noise, give 24.8 m" in out
+    import json
+
+    assert json.loads(Path("v.json").read_text())["suitable"] is False
+    motion, duration, _ = load_motion("eight.toml")
+    model = ImuModel.from_toml("imu.toml")
+    mc = assess(motion, model, 100, runs=8, tolerance=5, duration=duration, progress=False)
+    assert mc["fraction_within_tolerance"] == 0.0 and not mc["suitable"]   # the independent run
+
+
 # ------------------------------------------------------------------------- exit statuses
 
 
