@@ -428,6 +428,20 @@ def test_navigate_a_missing_signal_file_says_so(folder, capsys):
     assert _one_error(capsys) == "imunav: error: signal file not found: nothere.csv"
 
 
+def test_a_gap_late_in_the_first_chunk_is_reported_on_its_own_row(folder, capsys):
+    """11. A 100 s gap at row 10 000 was reported at data row 2 with a wrong spacing (the
+    interval was the mean over the whole first chunk, gap included)."""
+    n = 20000
+    t = np.arange(n) / 100.0
+    t[10000:] += 100.0
+    np.savetxt("gap.csv", np.column_stack([t, np.zeros((n, 3)), np.tile([0, 0, -9.8], (n, 1))]),
+               delimiter=",", comments="", header="t,gx,gy,gz,ax,ay,az")
+    assert main(["allan", "gap.csv", "--fit", "fit.toml"]) == 2
+    assert _one_error(capsys) == (
+        "imunav: error: gap.csv: column t must be uniformly spaced (every 0.01 s, as in the "
+        "first rows); data row 10001 has t = 200 s after 99.99 s")
+
+
 @pytest.mark.parametrize("args, runs", [(["simulate", "m.toml", "--rate", "20", "--out", "s.csv"],
                                          False),
                                         (["assess", "m.toml", "--imu", "BMI088", "--rate", "20",
