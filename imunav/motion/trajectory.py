@@ -219,10 +219,15 @@ class PoseMotion(_Spline):
                 f"smoothing={self.smoothing}, attitude_smoothing={self.attitude_smoothing})")
 
 
+#: The largest smoothing noise level (m or rad): its square times the pose count stays finite.
+MAX_SMOOTHING = 1e6
+
+
 def _positive(x, name: str) -> float:
     x = float(x)
-    if not np.isfinite(x) or x <= 0:
-        raise ImunavError(f"{name} must be a positive noise level, got {x!r}")
+    if not np.isfinite(x) or x <= 0 or x > MAX_SMOOTHING:
+        raise ImunavError(f"{name} must be a positive noise level of at most {MAX_SMOOTHING:g}, "
+                          f"got {x!r}", argument=name)
     return x
 
 
