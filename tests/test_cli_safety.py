@@ -456,3 +456,21 @@ def test_the_memory_message_names_runs_only_when_given(folder, capsys, monkeypat
     monkeypatch.setitem(cli.build_parser.__globals__, f"cmd_{args[0]}", oom)
     assert main(args) == 2
     assert ("--runs" in _one_error(capsys)) == runs
+
+
+def test_a_short_monte_carlo_on_a_terminal_shows_progress(folder, capsys, monkeypatch):
+    """12. Monte Carlo below 5e6 samples showed no progress, however long it took on a busy
+    machine: on a terminal the bar now appears after PROGRESS_DELAY seconds."""
+    import imunav.analysis.montecarlo as mc
+    from imunav.motion import Motion
+    from imunav.sensors.models import ImuModel
+
+    imu = ImuModel.load("BMI088")
+    monkeypatch.setattr(mc, "PROGRESS_DELAY", 0.0)
+    monkeypatch.setattr(mc, "_interactive", lambda: True)
+    motion = Motion(x="0.5*t**2", duration=2)
+    mc.monte_carlo(motion, imu, 20, runs=8, chunk=2)     # 8 × 41 samples
+    assert "Monte Carlo: 100%" in capsys.readouterr().err
+    monkeypatch.setattr(mc, "_interactive", lambda: False)             # a notebook, a pipe
+    mc.monte_carlo(motion, imu, 20, runs=8, chunk=2)
+    assert "Monte Carlo" not in capsys.readouterr().err
