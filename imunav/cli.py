@@ -560,11 +560,17 @@ def cmd_navigate(args) -> int:
     check_disk(out["--out"], 1.7 * Path(args.signals).stat().st_size, "this navigation")
     q0, v0, p0 = init.initial()
     rows, algo = 0, resolve(f.kind, args.algorithm).name
-    with states_writer(out["--out"], args.earth) as w:
-        for st in navigate_chunks(f.kind, f.rate, f.chunks(), q0, v0, p0, f.g,
-                                  algorithm=algo, t0=f.t0, earth=args.earth):
-            w.write(state_columns(st))
-            rows += len(st)
+    try:
+        with states_writer(out["--out"], args.earth) as w:
+            for st in navigate_chunks(f.kind, f.rate, f.chunks(), q0, v0, p0, f.g,
+                                      algorithm=algo, t0=f.t0, earth=args.earth):
+                w.write(state_columns(st))
+                rows += len(st)
+    except ImunavError as exc:                   # the integration's errors: name the file
+        msg = str(exc)
+        if msg.startswith("navigation "):
+            raise ImunavError(f"{args.signals}: {msg}", argument=exc.argument) from None
+        raise
     print(f"wrote {rows} navigation rows ({algo}) to {args.out}", file=_report(out))
     return 0
 

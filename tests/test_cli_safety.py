@@ -474,3 +474,19 @@ def test_a_short_monte_carlo_on_a_terminal_shows_progress(folder, capsys, monkey
     monkeypatch.setattr(mc, "_interactive", lambda: False)             # a notebook, a pipe
     mc.monte_carlo(motion, imu, 20, runs=8, chunk=2)
     assert "Monte Carlo" not in capsys.readouterr().err
+
+
+def test_a_1e300_increment_names_the_file_not_an_internal_array(folder, capsys):
+    """11. A `1e300` increment said 'phi contains NaN or inf (first at index (97, 0))': an
+    internal name, no file."""
+    assert _simulate("s.csv", "--truth", "truth.csv") == 0
+    lines = Path("s.csv").read_text().splitlines()
+    cells = lines[20].split(",")
+    cells[1] = "1e300"
+    lines[20] = ",".join(cells)
+    Path("big.csv").write_text("\n".join(lines) + "\n")
+    assert main(["navigate", "big.csv", "--initial", "truth.csv", "--out", "n.csv"]) == 2
+    msg = _one_error(capsys)
+    assert msg.startswith("imunav: error: big.csv: navigation became non-finite ")
+    assert "up to 1e+300 in SI units" in msg and "phi" not in msg
+    assert not Path("n.csv").exists()
