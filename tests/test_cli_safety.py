@@ -490,3 +490,23 @@ def test_a_1e300_increment_names_the_file_not_an_internal_array(folder, capsys):
     assert msg.startswith("imunav: error: big.csv: navigation became non-finite ")
     assert "up to 1e+300 in SI units" in msg and "phi" not in msg
     assert not Path("n.csv").exists()
+
+
+@pytest.mark.parametrize("suffix", ["png", "pdf", "svg"])
+def test_saved_figures_carry_no_date_or_version(folder, suffix):
+    """Deliverable 4: figure files without dates or versions, the same bytes on every run."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from imunav.io.files import save_figure
+
+    fig, ax = plt.subplots()
+    ax.plot([0, 1], [1, 0])
+    save_figure(fig, f"a.{suffix}")
+    save_figure(fig, f"b.{suffix}")
+    plt.close(fig)
+    data = Path(f"a.{suffix}").read_bytes()
+    assert data == Path(f"b.{suffix}").read_bytes()
+    assert matplotlib.__version__.encode() not in data and b"CreationDate" not in data

@@ -396,13 +396,29 @@ def write_text(path: str | Path, text: str) -> None:
     atomic_write_text(path, text)
 
 
+#: The metadata keys matplotlib fills with a date or its version, emptied per format.
+NEUTRAL_METADATA = {
+    "png": {"Software": None},
+    "pdf": {"Creator": None, "Producer": None, "CreationDate": None},
+    "svg": {"Creator": None, "Date": None},
+    "eps": {"Creator": None, "CreationDate": None},
+    "ps": {"Creator": None, "CreationDate": None},
+}
+
+
 def save_figure(fig, path: str | Path, **kw) -> None:
     """``fig.savefig`` as :class:`~imunav.io.csvio.OutputFile` writes (a regular file through a
     temporary file renamed at the end; a device or FIFO directly); the format from the suffix
-    (:func:`figure_format`)."""
+    (:func:`figure_format`). The file carries no date and no software version
+    (:data:`NEUTRAL_METADATA`): the same figure gives the same bytes on every run."""
+    fmt = figure_format(path)
+    kw.setdefault("metadata", NEUTRAL_METADATA.get(fmt))
+    import matplotlib
+
     out = OutputFile(path)
     try:
-        fig.savefig(out.fh, format=figure_format(path), **kw)
+        with matplotlib.rc_context({"svg.hashsalt": "imunav"}):   # SVG ids: fixed, not random
+            fig.savefig(out.fh, format=fmt, **kw)
     except BaseException:
         out.abort()
         raise
