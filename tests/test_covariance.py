@@ -388,10 +388,12 @@ def test_other_gravity_and_the_range_warnings():
     assert at.max_rate == pytest.approx(0.5, rel=1e-12) and at.warnings == [] and at.model == "r"
     over = covariance(turn, ImuModel(TriadModel(bias=b, range=0.49), TriadModel(range=9.0), "r"),
                       50.0)
+    # in datasheet units (issue 25, point 11: "372 … (SI)" had no unit): 0.5 rad/s = 28.6 °/s,
+    # 0.49 rad/s = 28.1 °/s; 9.81 m/s² = 1 g (of 9.80665), 9 m/s² = 0.918 g
     assert over.warnings == [
-        "the motion's angular rate reaches 0.5, beyond the gyro range 0.49 (SI): clipping is not "
-        "in the covariance; use Monte Carlo",
-        "the motion's specific force reaches 9.81, beyond the accel range 9 (SI): clipping is not "
+        "the motion's angular rate reaches 28.6 °/s, beyond the gyro range 28.1 °/s: clipping is "
+        "not in the covariance; use Monte Carlo",
+        "the motion's specific force reaches 1 g, beyond the accel range 0.918 g: clipping is not "
         "in the covariance; use Monte Carlo"]
 
 

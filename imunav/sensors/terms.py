@@ -366,7 +366,7 @@ class WhiteNoise(Term):
     parameters_ = (_main("noise_density", _tables(U.DENSITY_RATE, U.DENSITY_ACCEL),
                          {"gyro": "rate noise density / angle random walk",
                           "accel": "acceleration noise density / velocity random walk"}),)
-    display = {"gyro": ("deg/sqrt(h)", "°/√h", "rad/s/√Hz (= rad/√s)"),
+    display = {"gyro": ("deg/sqrt(h)", "deg/√h", "rad/s/√Hz (= rad/√s)"),
                "accel": ("ug/sqrt(Hz)", "µg/√Hz", "m/s²/√Hz (= m/s/√s)")}
 
     def start(self, model, stream, rng):
