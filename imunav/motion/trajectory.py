@@ -277,8 +277,10 @@ PROGRESS_DELAY = 3.0
 def run_in_background(jobs, desc: str) -> list:
     """The results of ``jobs`` (callables without arguments), each run in a daemon worker
     thread while this thread waits in short steps: signal handlers (SIGTERM, Ctrl-C) keep
-    running here while a job sits in C code that releases the GIL, and a tqdm bar (on stderr)
-    counts the jobs after :data:`PROGRESS_DELAY` seconds. A job's exception is raised here."""
+    running here while a job sits in C code that releases the GIL, and a tqdm bar (on stderr,
+    not inside a notebook kernel) counts the jobs after :data:`PROGRESS_DELAY` seconds. A job's
+    exception is raised here."""
+    import sys
     import threading
     import time
 
@@ -297,8 +299,9 @@ def run_in_background(jobs, desc: str) -> list:
             worker.start()
             while worker.is_alive():
                 worker.join(0.2)
-                if bar is None and time.monotonic() - start > PROGRESS_DELAY:
-                    from tqdm.auto import tqdm
+                if (bar is None and time.monotonic() - start > PROGRESS_DELAY
+                        and "ipykernel" not in sys.modules):    # stored notebooks stay as run
+                    from tqdm import tqdm
 
                     bar = tqdm(total=len(jobs), initial=i, desc=desc, unit="fit")
                 if bar is not None:
