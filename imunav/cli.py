@@ -1,8 +1,10 @@
 """Command line: ``imunav simulate | navigate | filter | assess | design | allan | reproduce``
 (also ``python -m imunav``).
 
-Every user error exits with status 2 and one line ``imunav: error: …`` naming the argument,
-file, row or law and what was expected; numeric warnings never reach the terminal. No output
+Exit status: 0 done; 1 ``assess --check`` found the IMU NOT SUITABLE; 2 a usage or input error,
+with one line ``imunav: error: …`` naming the argument, file, row or law and what was expected;
+70 an internal error (a bug: one line, ``IMUNAV_DEBUG=1`` shows the traceback); 130/143
+interrupted or terminated. Numeric warnings never reach the terminal. No output
 path may be an input (checked before anything runs), outputs are written to a temporary file
 renamed at the end, and signals and states are streamed in chunks: a run of any length needs no
 more memory than a short one.
@@ -13,6 +15,7 @@ May import: anything in imunav (a face of the package).
 from __future__ import annotations
 
 import argparse
+import importlib.metadata
 import os
 import re
 import signal
@@ -22,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from imunav.analysis.assessment import assess, assess_covariance, format_verdict
+from imunav.analysis.assessment import assess, format_verdict
 from imunav.analysis.design import design, format_design
 from imunav.core.constants import G0
 from imunav.core.resources import check_disk
@@ -37,6 +40,7 @@ from imunav.io.files import (
     ROW_BYTES,
     STATE_HEADERS,
     SignalFile,
+    figure_format,
     load_motion,
     read_initial_state,
     read_signals,
@@ -52,7 +56,7 @@ from imunav.motion.geodetic import EarthMotion
 from imunav.plotting import plot_allan
 from imunav.reproduce import format_table, reproduce_all
 from imunav.sensors.aiding import AidingConfig, simulate_aiding
-from imunav.sensors.allan import fit_allan
+from imunav.sensors.allan import allan_fits
 from imunav.sensors.allan_report import format_allan, imu_toml
 from imunav.sensors.models import ImuModel
 from imunav.sensors.presets import PRESETS
@@ -113,7 +117,11 @@ def _integer(name, minimum):
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of every command (``imunav --help``)."""
-    p = _Parser(prog="imunav", description=__doc__.splitlines()[0])
+    p = _Parser(prog="imunav", description=__doc__.splitlines()[0],
+                epilog="exit status: 0 done, 1 assess --check found NOT SUITABLE, 2 usage or "
+                       "input error, 70 internal error")
+    p.add_argument("--version", action="version",
+                   version=f"imunav {importlib.metadata.version('imunav')}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
     presets = ", ".join(PRESETS)
 
@@ -207,6 +215,9 @@ def build_parser() -> argparse.ArgumentParser:
     a.add_argument("--seed", type=_integer("--seed", 0), help="Monte Carlo seed (default 0)")
     a.add_argument("--json", metavar="OUT.json")
     _alignment_options(a)
+    a.add_argument("--check", action="store_true",
+                   help="exit with status 1 when the verdict is NOT SUITABLE (for scripts; "
+                        "without it the status is 0 whatever the verdict)")
     a.add_argument("--scheduler", metavar="ADDRESS",
                    help="run the Monte Carlo on a Dask cluster (imunav[dask])")
     _earth_options(a, vertical=True)
@@ -386,7 +397,8 @@ def cmd_simulate(args) -> int:
     offset = motion.time_offset
     note = (f" (t = 0 is the first pose or waypoint, t = {offset:g} s in {args.motion})"
             if offset else "")
-    print(f"wrote {rows} {args.output} rows at {args.rate:g} Hz to {args.out}{note}")
+    print(f"wrote {rows} {args.output} rows at {args.rate:g} Hz to {args.out}{note}",
+          file=_report(out))
     return 0
 
 
@@ -505,16 +517,13 @@ def cmd_assess(args) -> int:
     motion, duration, g_file = _motion(args)
     motion = _on_earth(args, motion, g_file)
     al = _alignment(args, motion)
-    if method == "covariance":
-        r = assess_covariance(motion, model, args.rate, args.tolerance, duration=duration,
-                              vertical=args.vertical, **al)
-    else:
-        r = assess(motion, model, args.rate, args.runs, args.tolerance, seed=args.seed or 0,
-                   duration=duration, scheduler=args.scheduler, vertical=args.vertical, **al)
-    print(format_verdict(r))
+    r = assess(motion, model, args.rate, args.runs, args.tolerance, seed=args.seed or 0,
+               duration=duration, scheduler=args.scheduler, method=method,
+               vertical=args.vertical, **al)
+    print(format_verdict(r), file=_report(out))
     if args.json:
         write_json(r, out["--json"])
-    return 0
+    return 1 if args.check and not r["suitable"] else 0
 
 
 def cmd_design(args) -> int:
@@ -525,7 +534,7 @@ def cmd_design(args) -> int:
     motion = _on_earth(args, motion, g_file)
     r = design(motion, model, args.rate, args.tolerance, duration=duration,
                vertical=args.vertical, **_alignment(args, motion))
-    print(format_design(r))
+    print(format_design(r), file=_report(out))
     if args.json:
         write_json(r, out["--json"])
     return 0
@@ -534,6 +543,8 @@ def cmd_design(args) -> int:
 def cmd_allan(args) -> int:
     """``imunav allan``: fit an IMU model to a static log's Allan deviation."""
     out = check_outputs({"--fit": args.fit, "--plot": args.plot}, [args.log])
+    if args.plot:
+        figure_format(args.plot, "--plot")                   # before anything is written
     if args.format == "imunav":
         f = SignalFile(args.log)
         if f.kind != "rates":
@@ -541,14 +552,10 @@ def cmd_allan(args) -> int:
                               f"{f.kind}")
         sig = read_signals(args.log)
     else:
-        sig = _read_recording(args)
-    if len(sig) < 100:
-        raise ImunavError(f"{args.log}: {len(sig)} samples are too few for an Allan deviation "
-                          "(a static record of minutes to hours is needed)")
-    fits = {"gyro": fit_allan(sig.omega, sig.rate), "accel": fit_allan(sig.specific_force,
-                                                                       sig.rate)}
+        sig = _read_recording(args, args.log)
+    fits = allan_fits(sig, Path(args.log).name)
     write_text(out["--fit"], imu_toml(fits, Path(args.log).name))
-    print(format_allan(fits, args.fit))
+    print(format_allan(fits, args.fit), file=_report(out))
     if args.plot:
         save_figure(plot_allan(fits), out["--plot"])
     return 0
@@ -565,6 +572,8 @@ def cmd_navigate(args) -> int:
     out = check_outputs({"--out": args.out}, [args.signals, args.initial])
     if args.format != "imunav":
         return _navigate_recording(args, out["--out"])
+    if not Path(args.signals).exists():
+        raise ImunavError(f"signal file not found: {args.signals}")
     if not args.initial:
         raise ImunavError("--initial TRUTH.csv is required for imunav signal files")
     if args.earth == "wgs84" and args.g is not None:
@@ -580,12 +589,18 @@ def cmd_navigate(args) -> int:
     check_disk(out["--out"], 1.7 * Path(args.signals).stat().st_size, "this navigation")
     q0, v0, p0 = init.initial()
     rows, algo = 0, resolve(f.kind, args.algorithm).name
-    with states_writer(out["--out"], args.earth) as w:
-        for st in navigate_chunks(f.kind, f.rate, f.chunks(), q0, v0, p0, f.g,
-                                  algorithm=algo, t0=f.t0, earth=args.earth):
-            w.write(state_columns(st))
-            rows += len(st)
-    print(f"wrote {rows} navigation rows ({algo}) to {args.out}")
+    try:
+        with states_writer(out["--out"], args.earth) as w:
+            for st in navigate_chunks(f.kind, f.rate, f.chunks(), q0, v0, p0, f.g,
+                                      algorithm=algo, t0=f.t0, earth=args.earth):
+                w.write(state_columns(st))
+                rows += len(st)
+    except ImunavError as exc:                   # the integration's errors: name the file
+        msg = str(exc)
+        if msg.startswith("navigation "):
+            raise ImunavError(f"{args.signals}: {msg}", argument=exc.argument) from None
+        raise
+    print(f"wrote {rows} navigation rows ({algo}) to {args.out}", file=_report(out))
     return 0
 
 
@@ -617,12 +632,13 @@ def _navigate_recording(args, out: Path) -> int:
     res = navigate(sig, q0, v0, p0, algorithm=args.algorithm, earth=args.earth)
     with states_writer(out, res.frame) as w:
         w.write(state_columns(res))
-    print(f"wrote {len(res.t)} navigation rows ({res.algorithm}) to {args.out}")
+    print(f"wrote {len(res.t)} navigation rows ({res.algorithm}) to {args.out}",
+          file=_report({"--out": out}))
     return 0
 
 
-def _read_recording(args):
-    path = Path(args.signals)
+def _read_recording(args, path=None):
+    path = Path(args.signals if path is None else path)
     if args.format in ("ximu3", "ximu"):
         folder = path if path.is_dir() else path.parent
         if not folder.exists():
@@ -635,7 +651,7 @@ def _read_recording(args):
                                     gyro_units=args.gyro_units, accel_units=args.accel_units,
                                     time_column=args.time_column, time_units=args.time_units,
                                     rate=args.rate)
-    if args.g is not None:
+    if getattr(args, "g", None) is not None:
         rec.signals.g = args.g
     return rec.signals
 
@@ -645,6 +661,28 @@ def cmd_reproduce(args) -> int:
     records = reproduce_all(args.out)
     print(format_table(records))
     return 0
+
+
+#: Exit status of an internal error (``EX_SOFTWARE`` of sysexits.h): not the 1 of a failed
+#: ``--check`` nor the 2 of a usage error.
+INTERNAL_ERROR = 70
+
+
+def _report(outputs: dict) -> object:
+    """Where a command's report goes: stdout, or stderr when one of its outputs is stdout
+    itself (``--out /dev/stdout``), so the data stream stays clean."""
+    try:
+        fd1 = os.fstat(sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):
+        return sys.stdout
+    for path in outputs.values():
+        try:
+            st = os.stat(path)
+        except OSError:
+            continue
+        if (st.st_dev, st.st_ino) == (fd1.st_dev, fd1.st_ino):
+            return sys.stderr
+    return sys.stdout
 
 
 class _Terminated(BaseException):
@@ -749,7 +787,8 @@ def _run(command, args) -> int:
             print(f"imunav: error: {exc.strerror or exc}{where}", file=sys.stderr)
             return 2
         except MemoryError:
-            print("imunav: error: out of memory (try fewer --runs, a lower --rate or a shorter "
+            runs = "fewer --runs, " if getattr(args, "runs", None) is not None else ""
+            print(f"imunav: error: out of memory (try {runs}a lower --rate or a shorter "
                   "duration)", file=sys.stderr)
             return 2
         except KeyboardInterrupt:
@@ -758,12 +797,12 @@ def _run(command, args) -> int:
         except _Terminated:
             print("imunav: terminated; no output was written", file=sys.stderr)
             return 143
-        except Exception as exc:                             # a bug: one line, exit 1
+        except Exception as exc:                             # a bug: one line, exit 70
             if os.environ.get("IMUNAV_DEBUG"):
                 raise
             print(f"imunav: internal error (please report it; IMUNAV_DEBUG=1 shows the "
                   f"traceback): {type(exc).__name__}: {exc}", file=sys.stderr)
-            return 1
+            return INTERNAL_ERROR
 
 
 if __name__ == "__main__":  # pragma: no cover

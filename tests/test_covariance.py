@@ -388,10 +388,12 @@ def test_other_gravity_and_the_range_warnings():
     assert at.max_rate == pytest.approx(0.5, rel=1e-12) and at.warnings == [] and at.model == "r"
     over = covariance(turn, ImuModel(TriadModel(bias=b, range=0.49), TriadModel(range=9.0), "r"),
                       50.0)
+    # in datasheet units (issue 25, point 11: "372 … (SI)" had no unit): 0.5 rad/s = 28.6 °/s,
+    # 0.49 rad/s = 28.1 °/s; 9.81 m/s² = 1 g (of 9.80665), 9 m/s² = 0.918 g
     assert over.warnings == [
-        "the motion's angular rate reaches 0.5, beyond the gyro range 0.49 (SI): clipping is not "
-        "in the covariance; use Monte Carlo",
-        "the motion's specific force reaches 9.81, beyond the accel range 9 (SI): clipping is not "
+        "the motion's angular rate reaches 28.6 °/s, beyond the gyro range 28.1 °/s: clipping is "
+        "not in the covariance; use Monte Carlo",
+        "the motion's specific force reaches 1 g, beyond the accel range 0.918 g: clipping is not "
         "in the covariance; use Monte Carlo"]
 
 
@@ -550,3 +552,27 @@ def test_streamed_summary_on_the_earth_is_the_local_covariance():
     np.testing.assert_allclose(s.total, full[idx], rtol=1e-12, atol=1e-12 * np.abs(full).max())
     w = norm_cdf(full[:, 6:9, 6:9], 50.0)
     assert s.within[0] == pytest.approx(w.min(), rel=1e-12)
+
+
+def test_the_norm_probability_is_right_at_any_tolerance_however_large():
+    """7. The quadrature is validated to r ≤ 8√λ₁: a 300 s still IMU with a 1e-4 m/s² accel
+    bias was SUITABLE for 1000 m and "NOT SUITABLE 82.6 %" for 1e6 m (its early covariances are
+    1e-13 m², the tolerance 1e12 σ away). Now the probability is kept within its closed-form
+    bounds: 1 to 1e-13 there, never above 1, monotone in r."""
+    from imunav.analysis.assessment import assess_covariance
+
+    still = Motion(duration=300.0, name="still")
+    model = _model("accel", bias=1e-4)
+    for tol in (1e3, 1e6, 1e12):
+        r = assess_covariance(still, model, 10.0, tol, progress=False)
+        assert r["suitable"] and r["fraction_within_tolerance"] == pytest.approx(1.0, abs=1e-13)
+    rng = np.random.default_rng(7)
+    lam = np.sort(10.0 ** rng.uniform(-12, 0, (400, 3)), axis=1)[:, ::-1]
+    lam[::7, 2] = 0.0
+    cov = np.zeros((400, 3, 3))
+    cov[:, [0, 1, 2], [0, 1, 2]] = lam
+    r = np.sqrt(lam[:, :1]) * 10.0 ** np.linspace(-3, 14, 60)        # (400, 60): up to 1e14 σ
+    P = norm_cdf(np.broadcast_to(cov[:, None], (400, 60, 3, 3)), r)
+    assert P.min() >= 0 and P.max() <= 1
+    assert np.all(np.diff(P, axis=1) >= -1e-12)
+    np.testing.assert_allclose(P[:, -20:], 1.0, rtol=0, atol=1e-13)   # beyond ~1e8 σ

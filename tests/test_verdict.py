@@ -115,14 +115,21 @@ def test_verdict_record_in_full():
     pos = [[(r + 1) * k / (n - 1) for k in range(n)] for r in range(20)]
     mc = _mc(pos, rate=2.0)
     r = A.verdict(mc, 30.0, {}, None)
+    # 20 runs all within: the Clopper–Pearson interval is [0.025^(1/20), 1] ∋ 95 % — warned
+    lo = 0.025 ** (1 / 20)
     assert r == {**r, "motion": "motion", "imu": "imu", "seed": 0, "rate_hz": 2.0,
-                 "tolerance_m": 30.0, "runs": 20, "method": "montecarlo", "warnings": [],
+                 "tolerance_m": 30.0, "runs": 20, "method": "montecarlo",
+                 "warnings": [f"20 runs cannot support a 95 % verdict: the fraction of runs "
+                              f"within 30 m is between {100 * lo:.1f} % and 100.0 % (95 % "
+                              "confidence, Clopper–Pearson); at least 72 runs are needed, more "
+                              "when some exceed"],
                  "min_rate_hz": None, "saturated_runs": 0, "error_budget": {},
                  "time_p95_exceeds_s": None, "suitable": True, "fraction_within_tolerance": 1.0}
+    assert r["fraction_ci95"] == pytest.approx([lo, 1.0], rel=1e-12)
     assert set(r) == {"motion", "imu", "rate_hz", "tolerance_m", "runs", "seed",
-                      "fraction_within_tolerance", "suitable", "time_p95_exceeds_s",
-                      "final_p95_position_m", "error_budget", "min_rate_hz", "saturated_runs",
-                      "method", "warnings", "envelope"}
+                      "fraction_within_tolerance", "fraction_ci95", "suitable",
+                      "time_p95_exceeds_s", "final_p95_position_m", "error_budget",
+                      "min_rate_hz", "saturated_runs", "method", "warnings", "envelope"}
     env = r["envelope"]
     assert set(env) == {"t", "position_p95_m", "attitude_p95_rad"}
     k = np.arange(0, n, 2)
@@ -387,3 +394,47 @@ def test_sampling_error_and_minimum_rate_for_the_duration_and_signals_asked():
     assert A.min_sample_rate(m, 1e-30, 3.0, "rates", candidates=(20,)) is None
     # no duration anywhere: no rate can be judged (not an error)
     assert A.min_sample_rate(Motion(x="t"), 1.0, candidates=(20,)) is None
+
+
+# ------------------------------------------------------------------------ issue 25, round 2
+
+
+def test_few_runs_give_a_verdict_with_its_caveat():
+    """7. `assess --runs 1` said "SUITABLE: 100.0 % of runs" with no warning that one run cannot
+    support a 95 % verdict. The interval is scipy's exact (Clopper–Pearson) binomial one."""
+    from scipy.stats import binomtest
+
+    from imunav import ImuModel
+
+    m = Motion(x="t", yaw="0.1*sin(t)", duration=2.0, name="m")
+    r = A.assess(m, ImuModel.load("tactical"), 20.0, 1, 100.0, progress=False)
+    assert r["suitable"] is True and r["fraction_within_tolerance"] == 1.0
+    ci = binomtest(1, 1).proportion_ci(0.95, method="exact")
+    assert r["fraction_ci95"] == pytest.approx([ci.low, ci.high], rel=1e-9)
+    assert r["warnings"][0].startswith("1 runs cannot support a 95 % verdict: the fraction of "
+                                       "runs within 100 m is between 2.5 % and 100.0 %")
+    assert "  Warning: 1 runs cannot support a 95 % verdict" in A.format_verdict(r)
+    # 72 runs all within clear 95 %; 1000 runs at 92.4 % are clearly below: no caveat
+    for inside, runs in ((72, 72), (924, 1000)):
+        ci = binomtest(inside, runs).proportion_ci(0.95, method="exact")
+        assert A.runs_interval(inside, runs) == pytest.approx((ci.low, ci.high), rel=1e-9)
+        assert not (ci.low < 0.95 <= ci.high)
+    assert A.MIN_RUNS == 72 and 0.95 ** 71 > 0.025 >= 0.95 ** 72
+
+
+def test_python_assess_offers_both_methods_as_the_command_line():
+    """12. The Python assess() ran Monte Carlo only while the CLI defaults to covariance."""
+    from imunav import ImuModel
+
+    m = Motion(x="t", yaw="0.1*sin(t)", duration=2.0, name="m")
+    model = ImuModel.load("BMI088")
+    r = A.assess(m, model, 20.0, tolerance=1.0)
+    assert r["method"] == "covariance" and r == A.assess_covariance(m, model, 20.0, 1.0)
+    assert A.assess(m, model, 20.0, 3, 1.0, progress=False)["method"] == "montecarlo"
+    assert A.assess(m, model, 20.0, 3, 1.0, method="montecarlo", progress=False)["runs"] == 3
+    with pytest.raises(ImunavError, match="^runs applies to the Monte Carlo method only"):
+        A.assess(m, model, 20.0, 3, 1.0, method="covariance")
+    with pytest.raises(ImunavError, match="^runs is required for the Monte Carlo method"):
+        A.assess(m, model, 20.0, tolerance=1.0, method="montecarlo")
+    with pytest.raises(ImunavError, match="^method must be one of covariance, montecarlo"):
+        A.assess(m, model, 20.0, tolerance=1.0, method="exact")

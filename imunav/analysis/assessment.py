@@ -9,6 +9,7 @@ May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``, ``imunav.str
 from __future__ import annotations
 
 import numpy as np
+from scipy.stats import beta
 
 from imunav.analysis.covariance import (
     ENVELOPE_POINTS,
@@ -20,7 +21,7 @@ from imunav.analysis.covariance import (
 from imunav.analysis.gaussnorm import norm_quantile
 from imunav.analysis.metrics import nav_errors
 from imunav.analysis.montecarlo import MonteCarloResult, monte_carlo
-from imunav.core.validation import check_positive
+from imunav.core.validation import ImunavError, check_positive
 from imunav.estimation.alignment import WINDOW, check_alignment
 from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import ImuModel, TriadModel
@@ -121,6 +122,35 @@ def min_sample_rate(motion: BaseMotion, tolerance: float, duration: float | None
     return None
 
 
+#: The confidence of the interval on a Monte Carlo fraction (:func:`runs_interval`).
+CONFIDENCE = 0.95
+
+#: Fewest runs whose interval can clear :data:`SUITABLE_FRACTION` (all of them within):
+#: ``(1 − CONFIDENCE)/2 ≥ SUITABLE_FRACTION ** runs``.
+MIN_RUNS = int(np.ceil(np.log((1 - CONFIDENCE) / 2) / np.log(SUITABLE_FRACTION)))
+
+
+def runs_interval(inside: int, runs: int, confidence: float = CONFIDENCE) -> tuple[float, float]:
+    """The Clopper–Pearson interval of a fraction of runs: exact (conservative) for ``inside``
+    successes in ``runs`` Bernoulli trials.
+
+    Parameters
+    ----------
+    inside, runs : int
+        Runs within the tolerance, and all runs (≥ 1).
+    confidence : float
+        Two-sided.
+
+    Returns
+    -------
+    lo, hi : float
+    """
+    a = (1 - confidence) / 2
+    lo = 0.0 if inside == 0 else float(beta.ppf(a, inside, runs - inside + 1))
+    hi = 1.0 if inside == runs else float(beta.ppf(1 - a, inside + 1, runs - inside))
+    return lo, hi
+
+
 def verdict(mc: MonteCarloResult, tolerance: float, budget: dict[str, MonteCarloResult],
             min_rate: float | None, *, motion: str = "motion", imu: str = "imu",
             seed: int = 0) -> dict:
@@ -130,7 +160,16 @@ def verdict(mc: MonteCarloResult, tolerance: float, budget: dict[str, MonteCarlo
     :func:`format_verdict` prints and ``imunav assess --json`` writes.
     """
     tolerance = check_positive(tolerance, "tolerance")
-    within = float(np.mean(mc.position.max(axis=1) <= tolerance))
+    inside = int(np.sum(mc.position.max(axis=1) <= tolerance))
+    within = inside / mc.runs
+    lo, hi = runs_interval(inside, mc.runs)
+    warnings = []
+    if lo < SUITABLE_FRACTION <= hi:
+        warnings.append(
+            f"{mc.runs} runs cannot support a {100 * SUITABLE_FRACTION:g} % verdict: the fraction "
+            f"of runs within {tolerance:g} m is between {100 * lo:.1f} % and {100 * hi:.1f} % "
+            f"({100 * CONFIDENCE:g} % confidence, Clopper–Pearson); at least {MIN_RUNS} runs "
+            "are needed, more when some exceed")
     env = np.percentile(mc.position, PERCENTILE, axis=0)
     over = np.nonzero(env > tolerance)[0]
     terms = {k: float(np.percentile(b.position[:, -1], PERCENTILE)) for k, b in budget.items()}
@@ -139,6 +178,7 @@ def verdict(mc: MonteCarloResult, tolerance: float, budget: dict[str, MonteCarlo
         "motion": motion, "imu": imu, "rate_hz": float(mc.rate), "tolerance_m": tolerance,
         "runs": mc.runs, "seed": seed,
         "fraction_within_tolerance": within,
+        "fraction_ci95": [lo, hi],
         "suitable": within >= SUITABLE_FRACTION,
         "time_p95_exceeds_s": float(mc.t[over[0]]) if over.size else None,
         "final_p95_position_m": float(env[-1]),
@@ -146,7 +186,7 @@ def verdict(mc: MonteCarloResult, tolerance: float, budget: dict[str, MonteCarlo
         "min_rate_hz": min_rate,
         "saturated_runs": int(np.sum(mc.saturated > 0)),
         "method": "montecarlo",
-        "warnings": [],
+        "warnings": warnings,
         "envelope": {"t": mc.t[idx].tolist(),
                      "position_p95_m": np.percentile(mc.position[:, idx], PERCENTILE,
                                                      axis=0).tolist(),
@@ -182,6 +222,7 @@ def verdict_covariance(cov: CovarianceResult | CovarianceSummary, tolerance: flo
         "motion": motion, "imu": imu, "rate_hz": cov.rate, "tolerance_m": tolerance,
         "method": "covariance", "runs": None, "seed": None,
         "fraction_within_tolerance": within,
+        "fraction_ci95": None,
         "suitable": within >= SUITABLE_FRACTION,
         "time_p95_exceeds_s": None if first_over is None else cov.time_at(first_over),
         "final_p95_position_m": float(env_p[-1]),
@@ -294,6 +335,11 @@ def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, toleranc
     det = deterministic_error(motion, model, rate, duration, output,
                               peaks=(cov.max_rate, cov.max_force))
     r["deterministic_position_m"] = None if det is None else det[0]
+    if det is not None and det[0] > tolerance:
+        # the error without noise already exceeds the tolerance: no spread of noise around it
+        # can keep 95 % within (the covariance, blind to it, said SUITABLE at 24.7 m vs 5 m)
+        r["suitable"] = False
+        r["deterministic_exceeds"] = True
     if det is not None and det[0] > SAMPLING_SHARE * tolerance:
         r["warnings"].append(
             f"the filter and range alone, without noise, give a {det[0]:.3g} m position error on "
@@ -319,13 +365,19 @@ def _say_alignment(r: dict, alignment: str, window: float) -> None:
         r["alignment"] = {"method": "level", "window_s": float(window)}
 
 
-def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int, tolerance: float,
-           seed: int = 0, duration: float | None = None, output: str = "increments",
-           budget_runs: int | None = None, scheduler: str | None = None,
-           progress: bool = True, vertical: str = "free", *, alignment: str = "truth",
+#: The methods of :func:`assess`.
+METHODS = ("covariance", "montecarlo")
+
+
+def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int | None = None,
+           tolerance: float | None = None, seed: int = 0, duration: float | None = None,
+           output: str = "increments", budget_runs: int | None = None,
+           scheduler: str | None = None, progress: bool = True,
+           method: str | None = None, vertical: str = "free", *, alignment: str = "truth",
            align_window: float = WINDOW) -> dict:
-    """The applicability verdict by Monte Carlo: the numbers of ``imunav assess`` (see
-    :func:`verdict` and :func:`format_verdict`).
+    """The applicability verdict: the numbers of ``imunav assess`` (see :func:`verdict`,
+    :func:`verdict_covariance` and :func:`format_verdict`), by either method, as the command
+    line chooses it.
 
     Parameters
     ----------
@@ -335,8 +387,8 @@ def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int, toleranc
         The sensor's errors.
     rate : float
         Output sample rate (Hz).
-    runs : int
-        Monte Carlo runs with all error terms together, ≥ 1.
+    runs : int, optional
+        Monte Carlo runs with all error terms together, ≥ 1 (the Monte Carlo method only).
     tolerance : float
         The position tolerance (m), > 0: a run is within it if its maximum position error
         over the whole motion is.
@@ -353,6 +405,9 @@ def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int, toleranc
         :func:`~imunav.analysis.montecarlo.monte_carlo`).
     progress : bool, default True
         Show a progress bar on long runs.
+    method : {"covariance", "montecarlo"}, optional
+        Default: Monte Carlo when ``runs`` is given, else linear covariance analysis
+        (:func:`assess_covariance`).
     vertical : {"free", "hold"}, default "free"
         On the WGS-84 Earth: hold the vertical channel at the true height (a perfect height
         aid); free, a verdict dominated by the unstable vertical channel says so.
@@ -379,6 +434,8 @@ def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int, toleranc
         ``vertical``, ``scheduler`` …).
         Also if ``alignment`` is not ``"truth"`` or ``"level"``, ``align_window`` is not
         a finite number > 0, or ``"level"`` is asked on the WGS-84 Earth.
+        Also for a bad ``method``, ``runs`` or ``scheduler`` with the covariance method, or
+        the Monte Carlo method without ``runs``.
 
     Examples
     --------
@@ -389,9 +446,25 @@ def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int, toleranc
     >>> r["suitable"], list(r["error_budget"])
     (False, ['accel.bias'])
     """
+    method = method or ("montecarlo" if runs is not None else "covariance")
+    if method not in METHODS:
+        raise ImunavError(f"method must be one of {', '.join(METHODS)}, got {method!r}",
+                          argument="method")
     tolerance = check_positive(tolerance, "tolerance")
     alignment, align_window = check_alignment(alignment, align_window, motion.frame)
     al = {} if alignment == "truth" else {"alignment": alignment, "align_window": align_window}
+    if method == "covariance":
+        for name, value in (("runs", runs), ("scheduler", scheduler),
+                            ("budget_runs", budget_runs)):
+            if value is not None:
+                raise ImunavError(f"{name} applies to the Monte Carlo method only "
+                                  "(method 'montecarlo')", argument=name)
+        return assess_covariance(motion, model, rate, tolerance, duration, output,
+                                 progress=progress, vertical=vertical, alignment=alignment,
+                                 align_window=align_window)
+    if runs is None:
+        raise ImunavError("runs is required for the Monte Carlo method (method 'montecarlo')",
+                          argument="runs")
     mc = monte_carlo(motion, model, rate, duration, runs, seed, output, scheduler=scheduler,
                      progress=progress, vertical=vertical, **al)
     br = budget_runs or min(runs, 200)
@@ -473,7 +546,12 @@ def format_verdict(r: dict) -> str:
                      f"{r['alignment']['window_s']:g} s before the motion (heading given).")
     ok = r.get("suitable", r["fraction_within_tolerance"] >= SUITABLE_FRACTION)
     need = f"(needed: {100 * SUITABLE_FRACTION:g} %)"
-    if cov and ok:
+    if cov and r.get("deterministic_exceeds"):
+        lines.append(f"  NOT SUITABLE: the filter and range alone, without noise, give "
+                     f"{r['deterministic_position_m']:.3g} m of position error, beyond the "
+                     f"{r['tolerance_m']:g} m tolerance (the noise alone: P(error ≤ "
+                     f"{r['tolerance_m']:g} m) ≥ {pct:.1f} %).")
+    elif cov and ok:
         lines.append(f"  SUITABLE: P(position error ≤ {r['tolerance_m']:g} m) is at least "
                      f"{pct:.1f} % at every time {need}.")
     elif cov:
@@ -482,9 +560,10 @@ def format_verdict(r: dict) -> str:
     else:
         lines.append(f"  {'SUITABLE' if ok else 'NOT SUITABLE'}: {pct:.1f} % of runs stay within "
                      f"{r['tolerance_m']:g} m over the whole motion {need}.")
+    which = "noise-driven " if r.get("deterministic_exceeds") else ""
     if r["time_p95_exceeds_s"] is None:
-        lines.append("  The 95th percentile of the position error never exceeds the tolerance "
-                     f"(final {r['final_p95_position_m']:.3g} m).")
+        lines.append(f"  The 95th percentile of the {which}position error never exceeds the "
+                     f"tolerance (final {r['final_p95_position_m']:.3g} m).")
     else:
         lines.append(f"  The 95th percentile crosses {r['tolerance_m']:g} m at "
                      f"t = {r['time_p95_exceeds_s']:.2f} s (final {r['final_p95_position_m']:.3g} m).")

@@ -365,12 +365,32 @@ def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: floa
     return MonteCarloResult(t, pos, vel, att, sat, model.name, rate, output, hor, alignment)
 
 
-def _progress(n_chunks: int, work: int, enabled: bool):
-    """A tqdm bar (terminal or notebook) for long runs only."""
-    if not enabled or n_chunks < 2 or work < 5e6:
-        return None
-    from tqdm.auto import tqdm
+#: Samples above which a Monte Carlo always shows its bar; below, on a terminal, the bar
+#: appears once the run has taken :data:`PROGRESS_DELAY` seconds (a shared machine can make
+#: 1e6 samples take tens of seconds).
+PROGRESS_WORK = 5e6
+PROGRESS_DELAY = 2.0
 
-    return tqdm(total=n_chunks, desc="Monte Carlo", unit="chunk")
+
+def _interactive() -> bool:
+    import sys
+
+    return bool(getattr(sys.stderr, "isatty", lambda: False)())
+
+
+def _progress(n_chunks: int, work: int, enabled: bool):
+    """A tqdm bar (terminal or notebook) for long runs; on a terminal, for any run that
+    lasts more than :data:`PROGRESS_DELAY` seconds."""
+    if not enabled or n_chunks < 2:
+        return None
+    if work >= PROGRESS_WORK:
+        from tqdm.auto import tqdm
+
+        return tqdm(total=n_chunks, desc="Monte Carlo", unit="chunk")
+    if not _interactive():
+        return None
+    from tqdm import tqdm
+
+    return tqdm(total=n_chunks, desc="Monte Carlo", unit="chunk", delay=PROGRESS_DELAY)
 
 

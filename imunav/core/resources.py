@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import os
 import shutil
+import stat
 from pathlib import Path
 
 from imunav.core.validation import ImunavError
@@ -51,7 +52,13 @@ def check_memory(nbytes: float, what: str, hint: str = "") -> None:
 
 
 def check_disk(path: str | Path, nbytes: float, what: str) -> None:
-    """Raise if writing about ``nbytes`` next to ``path`` would not fit on its disk."""
+    """Raise if writing about ``nbytes`` next to ``path`` would not fit on its disk (a path
+    that is not a regular file — a device, a FIFO — has no disk to fill: not checked)."""
+    try:
+        if not stat.S_ISREG(os.stat(path).st_mode):
+            return
+    except OSError:
+        pass                                               # a new file
     folder = Path(path).resolve().parent
     try:
         free = shutil.disk_usage(folder).free

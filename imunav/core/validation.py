@@ -238,6 +238,45 @@ def check_time(t: npt.ArrayLike, name: str = "t") -> np.ndarray:
     return a
 
 
+#: A quaternion read from a file is a unit ``q_nb`` to this tolerance on its norm (a file
+#: written with 3 or more decimals) and is then normalised; beyond it, it is refused (a scaled
+#: or garbled quaternion is not silently made unit).
+QUATERNION_NORM_TOLERANCE = 1e-3
+
+
+def unit_quaternions(q: npt.ArrayLike, row: str = "row", first_row: int = 0) -> np.ndarray:
+    """Check that each quaternion is of unit norm to :data:`QUATERNION_NORM_TOLERANCE` and
+    return them normalised.
+
+    Parameters
+    ----------
+    q : array_like, shape (N, 4)
+        Scalar-first quaternions.
+    row : str
+        How a row is named in the message (``"pose"``, ``"poses.csv, line"``).
+    first_row : int
+        The number of the first row in that naming.
+
+    Returns
+    -------
+    ndarray, shape (N, 4)
+        ``q / |q|``.
+
+    Raises
+    ------
+    ImunavError
+        Naming the first row whose norm is off by more than the tolerance.
+    """
+    q = as_float_array(q, "attitude", last=4)
+    norm = np.linalg.norm(q, axis=-1)
+    bad = np.nonzero(~(np.abs(norm - 1) <= QUATERNION_NORM_TOLERANCE))[0]
+    if bad.size:
+        i = int(bad[0])
+        raise ImunavError(f"{row} {i + first_row}: quaternion norm {norm[i]:.9g} is not 1 (to "
+                          f"{QUATERNION_NORM_TOLERANCE:g}; expected a unit q_nb, scalar first)")
+    return q / norm[..., None]
+
+
 def read_toml(path, what: str) -> dict:
     """Read the table of a TOML file.
 

@@ -7,7 +7,10 @@ outside the GIL (formatting is done in two threads while the caller computes). p
 a layer over the same engine for no gain here; numpy's ``savetxt``/``loadtxt`` were 5–6 µs a row.
 
 Writing goes to a temporary file in the destination folder, renamed over the destination only
-when everything is written (:class:`CsvWriter`): an interrupted run leaves no half file.
+when everything is written (:class:`CsvWriter`): an interrupted run leaves no half file. The
+rename is for regular files only (:class:`OutputFile`): a symbolic link is written through to
+its target (the link stays), a character device or a FIFO (``/dev/null``, a pipe) is written
+directly, anything else is refused — a special file is never replaced.
 Reading reports a bad value with its line and column; pyarrow does not give line numbers, so
 the file is rescanned with the ``csv`` module on that (error) path only.
 
@@ -17,7 +20,9 @@ May import: ``imunav.core``.
 from __future__ import annotations
 
 import csv
+import fcntl
 import os
+import stat
 import tempfile
 from collections import deque
 from collections.abc import Iterator, Sequence
@@ -162,18 +167,122 @@ def _umask() -> int:
     return mask
 
 
-def atomic_write_text(path: str | Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a temporary file renamed at the end."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".imunav-tmp", dir=path.parent)
+def output_kind(path: str | Path) -> str:
+    """What an output path is: ``"file"`` (a regular file, possibly behind symbolic links, or
+    nothing yet), ``"stream"`` (a character device or a FIFO, written through) or
+    ``"other"`` (a block device, a socket: refused).
+
+    Parameters
+    ----------
+    path : str or Path
+
+    Returns
+    -------
+    str
+    """
     try:
-        with os.fdopen(fd, "w") as fh:
-            fh.write(text)
-        os.chmod(tmp, 0o666 & ~_umask())
-        os.replace(tmp, path)
+        mode = os.stat(path).st_mode                      # through every link
+    except FileNotFoundError:
+        return "file"                                      # new (or a dangling link's target)
+    if stat.S_ISREG(mode):
+        return "file"
+    if stat.S_ISCHR(mode) or stat.S_ISFIFO(mode):
+        return "stream"
+    return "other"
+
+
+class OutputFile:
+    """An output opened for writing bytes, committed only when complete.
+
+    A regular file (new, existing, or the target of symbolic links) is written to a temporary
+    file in its folder, renamed over it by :meth:`commit` (with the existing file's permission
+    bits, or a new file's); :meth:`abort` removes the temporary file. A character device or a
+    FIFO is written through (a FIFO only if a reader has it open); a block device or a socket
+    is refused. A special file or a link is never replaced.
+
+    Parameters
+    ----------
+    path : str or Path
+    what : str
+        How error messages name it (the option, say).
+
+    Raises
+    ------
+    ImunavError
+        For a path that cannot be written this way.
+    """
+
+    def __init__(self, path: str | Path, what: str | None = None):
+        self.path = Path(path)
+        self.what = f"{what} {self.path}" if what else str(self.path)
+        kind = output_kind(self.path)
+        self.stream = kind == "stream"
+        self.tmp = None
+        if kind == "other":
+            raise ImunavError(f"{self.what} is a special file (not a regular file, a character "
+                              "device or a FIFO); give a file name")
+        if self.stream:
+            flags = os.O_WRONLY | (os.O_NONBLOCK if stat.S_ISFIFO(os.stat(self.path).st_mode)
+                                   else 0)
+            try:
+                fd = os.open(self.path, flags)
+            except OSError as exc:
+                why = "a FIFO no process reads" if exc.errno == 6 else (exc.strerror or exc)
+                raise ImunavError(f"cannot write {self.what} ({why})") from None
+            fcntl.fcntl(fd, fcntl.F_SETFL, fcntl.fcntl(fd, fcntl.F_GETFL) & ~os.O_NONBLOCK)
+            self.fh = os.fdopen(fd, "wb")
+            return
+        self.target = Path(os.path.realpath(self.path))
+        try:
+            self.mode = stat.S_IMODE(os.stat(self.target).st_mode)
+        except FileNotFoundError:
+            self.mode = 0o666 & ~_umask()                   # as an ordinary new file would be
+        fd, tmp = tempfile.mkstemp(prefix=f".{self.target.name}.", suffix=".imunav-tmp",
+                                   dir=self.target.parent)
+        self.tmp = Path(tmp)
+        self.fh = os.fdopen(fd, "wb")
+
+    def write(self, data: bytes) -> None:
+        """Write ``data`` (bytes)."""
+        self.fh.write(data)
+
+    def commit(self) -> None:
+        """Finish: flush and close; a regular file is renamed into place.
+
+        Raises
+        ------
+        ImunavError
+            If the data could not be written (a full disk or device).
+        """
+        try:
+            self.fh.close()
+            if self.tmp is not None:
+                os.chmod(self.tmp, self.mode)
+                os.replace(self.tmp, self.target)
+        except OSError as exc:
+            self.abort()
+            raise ImunavError(f"could not write {self.what} ({exc.strerror or exc})") from None
+
+    def abort(self) -> None:
+        """Give up: close, and remove the temporary file (nothing replaced)."""
+        try:
+            self.fh.close()
+        except OSError:
+            pass
+        if self.tmp is not None:
+            self.tmp.unlink(missing_ok=True)
+
+
+def atomic_write_text(path: str | Path, text: str) -> None:
+    """Write ``text`` to ``path`` as :class:`OutputFile` does (a regular file through a
+    temporary file renamed at the end; a device or FIFO directly)."""
+    out = OutputFile(path)
+    try:
+        out.write(text.encode())
     except BaseException:
-        Path(tmp).unlink(missing_ok=True)
+        out.abort()
         raise
+    out.commit()
 
 
 class CsvWriter:
@@ -187,10 +296,8 @@ class CsvWriter:
 
     def __init__(self, path: str | Path, header: Sequence[str]):
         self.path = Path(path)
-        fd, tmp = tempfile.mkstemp(prefix=f".{self.path.name}.", suffix=".imunav-tmp",
-                                   dir=self.path.parent)
-        self.tmp = Path(tmp)
-        self.fh = os.fdopen(fd, "wb")
+        self.out = OutputFile(self.path)
+        self.fh = self.out
         self.fh.write((",".join(header) + "\n").encode())
         self.width = len(header)
         self.pool = ThreadPoolExecutor(2)
@@ -236,9 +343,7 @@ class CsvWriter:
             while self.pending:
                 self.fh.write(self.pending.popleft().result())
             self.pool.shutdown()
-            self.fh.close()
-            os.chmod(self.tmp, 0o666 & ~_umask())         # as an ordinary new file would be
-            os.replace(self.tmp, self.path)
+            self.out.commit()
         except BaseException:
             self.abort()
             raise
@@ -249,8 +354,7 @@ class CsvWriter:
             f.cancel()
         self.pending.clear()
         self.pool.shutdown(wait=True, cancel_futures=True)
-        self.fh.close()
-        self.tmp.unlink(missing_ok=True)
+        self.out.abort()
 
     def __enter__(self) -> CsvWriter:
         return self

@@ -34,8 +34,21 @@ from imunav.core.constants import G0
 from imunav.core.resources import check_memory
 from imunav.core.rotations import FloatArray
 from imunav.core.states import States
-from imunav.core.validation import ImunavError, check_gravity, check_positive, read_toml
-from imunav.io.csvio import CsvWriter, atomic_write_text, first_row, read_chunks, read_header
+from imunav.core.validation import (
+    ImunavError,
+    check_gravity,
+    check_positive,
+    read_toml,
+    unit_quaternions,
+)
+from imunav.io.csvio import (
+    CsvWriter,
+    OutputFile,
+    atomic_write_text,
+    first_row,
+    read_chunks,
+    read_header,
+)
 from imunav.motion.analytic import Motion
 from imunav.motion.base import BaseMotion
 from imunav.motion.trajectory import ORIENTATIONS, PoseMotion, WaypointMotion
@@ -204,7 +217,8 @@ def load_poses(path: str | Path, *, smoothing: float | None = None,
                             row_name=f"{path}, line", first_row=2)
     except ImunavError as exc:
         msg = str(exc)
-        raise ImunavError(msg if msg.startswith(str(path)) else f"{path}: {msg}") from None
+        raise ImunavError(msg if msg.startswith(str(path)) else f"{path}: {msg}",
+                          argument=exc.argument) from None
     return motion, motion.duration, None
 
 
@@ -374,7 +388,14 @@ class SignalFile:
         self._first = np.concatenate(first)
         t = self._first[:, 0]
         self.t_first = float(t[0])
-        dt = (t[-1] - t[0]) / (t.size - 1)
+        # the interval of the first rows: the median of their first thousand steps, then the
+        # mean over the leading run that keeps it (a gap later in the first chunk must not
+        # enter the estimate: a 100 s gap at row 10 000 was reported at row 2)
+        d = np.diff(t[:1001])
+        med = float(np.median(d))
+        off = np.nonzero(~(np.abs(d - med) <= 1e-3 * abs(med)))[0]
+        m = int(off[0]) if off.size else d.size
+        dt = (t[m] - t[0]) / m if m else med
         if not dt > 0:
             raise ImunavError(f"{self.path}: column t must be strictly increasing")
         # the times of a file imunav wrote are t0 + k/rate: the estimate carries rounding that
@@ -491,9 +512,7 @@ def _states_header(path: Path) -> tuple[tuple[str, ...], str]:
 
 
 def _states(path: Path, data: np.ndarray, frame: str = "flat") -> States:
-    q = data[:, 7:11]
-    if np.any(np.linalg.norm(q, axis=1) < 1e-12):
-        raise ImunavError(f"{path}: quaternion columns qw,qx,qy,qz must not be all zero")
+    q = unit_quaternions(data[:, 7:11], f"{path}, line", 2)
     t = data[:, 0]
     if t.size > 1 and np.any(np.diff(t) <= 0):
         i = int(np.argmax(np.diff(t) <= 0))
@@ -663,17 +682,54 @@ def write_text(path: str | Path, text: str) -> None:
     atomic_write_text(path, text)
 
 
-def save_figure(fig, path: str | Path, **kw) -> None:
-    """``fig.savefig`` through a temporary file renamed at the end (format from the suffix)."""
-    import os
-    import tempfile
+#: The metadata keys matplotlib fills with a date or its version, emptied per format.
+NEUTRAL_METADATA = {
+    "png": {"Software": None},
+    "pdf": {"Creator": None, "Producer": None, "CreationDate": None},
+    "svg": {"Creator": None, "Date": None},
+    "eps": {"Creator": None, "CreationDate": None},
+    "ps": {"Creator": None, "CreationDate": None},
+}
 
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix or ".png",
-                               dir=path.parent)
-    os.close(fd)
+
+def save_figure(fig, path: str | Path, **kw) -> None:
+    """``fig.savefig`` as :class:`~imunav.io.csvio.OutputFile` writes (a regular file through a
+    temporary file renamed at the end; a device or FIFO directly); the format from the suffix
+    (:func:`figure_format`). The file carries no date and no software version
+    (:data:`NEUTRAL_METADATA`): the same figure gives the same bytes on every run."""
+    fmt = figure_format(path)
+    kw.setdefault("metadata", NEUTRAL_METADATA.get(fmt))
+    import matplotlib
+
+    out = OutputFile(path)
     try:
-        fig.savefig(tmp, **kw)
-        os.replace(tmp, path)
-    finally:
-        Path(tmp).unlink(missing_ok=True)
+        with matplotlib.rc_context({"svg.hashsalt": "imunav"}):   # SVG ids: fixed, not random
+            fig.savefig(out.fh, format=fmt, **kw)
+    except BaseException:
+        out.abort()
+        raise
+    out.commit()
+
+
+def figure_format(path: str | Path, what: str = "figure") -> str:
+    """The image format of a figure path, from its suffix (``png`` without one), or an
+    ImunavError naming the formats matplotlib writes — checked before any work is done.
+
+    Parameters
+    ----------
+    path : str or Path
+    what : str
+        The option that names it, for the message.
+
+    Returns
+    -------
+    str
+    """
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    fmt = Path(path).suffix.lower().lstrip(".") or "png"
+    known = FigureCanvasBase.get_supported_filetypes()
+    if fmt not in known:
+        raise ImunavError(f"{what} {path}: unknown image format {fmt!r}; use one of "
+                          + ", ".join(sorted(known)))
+    return fmt

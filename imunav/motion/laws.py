@@ -16,8 +16,9 @@ everywhere they are defined and lambdify to numpy; non-smooth ones (``Abs``, ``s
 ``floor``, ``Heaviside``, ``Min``/``Max``, ``Mod``) are refused because the simulation needs
 the first and second derivatives of every law.
 
-Bounds keep any law cheap to parse: at most :data:`MAX_CHARS` characters and
-:data:`MAX_NODES` syntax nodes; every constant sub-expression must stay within
+Bounds keep any law cheap to parse: at most :data:`MAX_CHARS` characters,
+:data:`MAX_NODES` syntax nodes and :data:`MAX_DEPTH` levels of nesting (its derivatives are
+built recursively); every constant sub-expression must stay within
 ``±MAX_MAGNITUDE`` and a constant exponent within ``±MAX_EXPONENT`` (so ``9**9**9`` is refused
 instead of computing a 370-million-digit integer). A law whose constants are complex
 (``sqrt(-1)``, ``log(-2)``, ``asin(2)``) is refused; a law that becomes complex or infinite only
@@ -44,6 +45,7 @@ T = sp.Symbol("t", real=True)
 
 MAX_CHARS = 2000
 MAX_NODES = 500
+MAX_DEPTH = 30
 MAX_EXPONENT = 1000
 MAX_MAGNITUDE = 1e300
 
@@ -232,7 +234,40 @@ def parse_law(expr: str | sp.Expr | numbers.Real, name: str) -> sp.Expr:
     n = sum(1 for _ in ast.walk(tree))
     if n > MAX_NODES:
         raise ImunavError(f"motion law {name!r} has {n} syntax nodes; the limit is {MAX_NODES}")
-    return _Builder(name, src).build(tree)
+    depth = _depth(tree)
+    if depth > MAX_DEPTH:
+        raise ImunavError(f"motion law {name!r} = {_short(src)!r} nests functions and powers "
+                          f"{depth} deep; the limit is {MAX_DEPTH}")
+    e = _Builder(name, src).build(tree)
+    depth = _expression_depth(e)              # divisions nest too, as powers of -1
+    if depth > MAX_DEPTH:
+        raise ImunavError(f"motion law {name!r} = {_short(src)!r} nests functions and powers "
+                          f"{depth} deep; the limit is {MAX_DEPTH}")
+    return e
+
+
+def _depth(tree: ast.AST) -> int:
+    """The nesting of calls and powers in ``tree`` (sums and products are flat in SymPy;
+    iteratively: a deep tree is what is being checked)."""
+    deepest, stack = 0, [(tree, 0)]
+    while stack:
+        node, d = stack.pop()
+        d += isinstance(node, ast.Call) or (isinstance(node, ast.BinOp)
+                                            and isinstance(node.op, ast.Pow))
+        deepest = max(deepest, d)
+        stack.extend((child, d) for child in ast.iter_child_nodes(node))
+    return deepest
+
+
+def _expression_depth(e: sp.Basic) -> int:
+    """The nesting of functions and powers in a SymPy expression (iteratively)."""
+    deepest, stack = 0, [(e, 0)]
+    while stack:
+        node, d = stack.pop()
+        d += isinstance(node, sp.Function | sp.Pow)
+        deepest = max(deepest, d)
+        stack.extend((arg, d) for arg in node.args)
+    return deepest
 
 
 def _short(src: str) -> str:
@@ -268,6 +303,10 @@ def check_expression(e: sp.Basic, name: str) -> sp.Expr:
     e = e.subs({s: T for s in e.free_symbols if getattr(s, "name", None) == "t"})
     if sp.count_ops(e, visual=False) > MAX_NODES:
         raise ImunavError(f"motion law {name!r} has more than {MAX_NODES} operations")
+    depth = _expression_depth(e)
+    if depth > MAX_DEPTH:
+        raise ImunavError(f"motion law {name!r} nests functions and powers {depth} deep; the "
+                          f"limit is {MAX_DEPTH}")
     for node in sp.preorder_traversal(e):
         if isinstance(node, sp.Symbol):
             if node != T:

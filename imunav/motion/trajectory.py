@@ -48,13 +48,19 @@ import numpy.typing as npt
 
 from imunav.core.constants import G0
 from imunav.core.rotations import FloatArray, euler_to_quat
-from imunav.core.validation import ImunavError, as_float_array
+from imunav.core.validation import ImunavError, as_float_array, unit_quaternions
 from imunav.motion.base import BaseMotion, times
 
 #: Quintic position splines need this many poses (a not-a-knot quintic: 6 coefficients).
 MIN_POSES = 6
 #: Evaluating this far outside [0, duration] (s) is accepted (rounding of sample times).
 EDGE = 1e-9
+
+
+#: The data's times: intervals of at least a microsecond (no capture or route is denser; a
+#: spline's collocation needs them resolved), spans of at most ten years.
+MIN_INTERVAL = 1e-6
+MAX_SPAN = 3.2e8
 
 
 def _check_times(t: npt.ArrayLike, what: str, first_row: int = 1) -> FloatArray:
@@ -64,6 +70,16 @@ def _check_times(t: npt.ArrayLike, what: str, first_row: int = 1) -> FloatArray:
         i = int(bad[0]) + 1
         raise ImunavError(f"{what} {i + first_row}: t = {t[i]:.10g} is not after the previous "
                           f"t = {t[i - 1]:.10g} (times must strictly increase)")
+    small = np.nonzero(np.diff(t) < MIN_INTERVAL)[0]
+    if small.size:
+        i = int(small[0]) + 1
+        raise ImunavError(f"{what} {i + first_row}: t = {t[i]:.10g} is only "
+                          f"{t[i] - t[i - 1]:.3g} s after the previous one (at least "
+                          f"{MIN_INTERVAL:g} s apart)")
+    if t.size and t[-1] - t[0] > MAX_SPAN:
+        raise ImunavError(f"{what} {t.size - 1 + first_row}: t = {t[-1]:.10g} is "
+                          f"{t[-1] - t[0]:.3g} s after the first (at most {MAX_SPAN:g} s, ten "
+                          "years)")
     return t
 
 
@@ -108,7 +124,7 @@ class PoseMotion(_Spline):
     position : array_like, shape (n, 3)
         Positions (m, NED).
     attitude : array_like, shape (n, 4)
-        ``q_nb`` quaternions, scalar first, unit norm to 1e-6 (then normalised; the signs are
+        ``q_nb`` quaternions, scalar first, unit norm to 1e-3 (then normalised; the signs are
         made continuous, since q and −q are the same attitude).
     smoothing : float, optional
         Noise standard deviation of the positions (m): a quintic smoothing spline with
@@ -140,7 +156,7 @@ class PoseMotion(_Spline):
     ImunavError
         If the times are not strictly increasing (naming the pose by ``row_name`` and
         ``first_row``), there are fewer than 6 poses, the arrays are not finite or their
-        lengths differ, a quaternion's norm is not 1 to 1e-6 (naming the pose), or a smoothing
+        lengths differ, a quaternion's norm is not 1 to 1e-3 (naming the pose), or a smoothing
         level is not a finite number > 0. Every method raises for times outside
         ``[0, duration]`` (beyond 1e-9 s).
 
@@ -170,13 +186,7 @@ class PoseMotion(_Spline):
         q = as_float_array(attitude, "attitude", last=4)
         if p.shape[0] != n or q.shape[0] != n:
             raise ImunavError(f"{n} times but {p.shape[0]} positions and {q.shape[0]} attitudes")
-        norm = np.linalg.norm(q, axis=1)
-        bad = np.nonzero(np.abs(norm - 1) > 1e-6)[0]
-        if bad.size:
-            i = int(bad[0])
-            raise ImunavError(f"{what} {i + first_row}: quaternion norm {norm[i]:.9g} is not 1 "
-                              "(expected a unit q_nb, scalar first)")
-        q = q / norm[:, None]
+        q = unit_quaternions(q, what, first_row)
         # sign continuity: q and −q are the same attitude; keep consecutive ones close
         flips = np.cumsum(np.concatenate([[0], np.sum(q[1:] * q[:-1], axis=1) < 0])) % 2
         q = np.where(flips[:, None] == 1, -q, q)
@@ -189,9 +199,10 @@ class PoseMotion(_Spline):
         if smoothing is None:
             self._pos = make_interp_spline(tt, p, k=5)
         else:
-            self._pos = _smoothing_spline(tt, p, _positive(smoothing, "smoothing"))
+            self._pos = _smoothing_spline(tt, p, _positive(smoothing, "smoothing"), "smoothing")
         if attitude_smoothing is not None:
-            qs = _smoothing_spline(tt, q, _positive(attitude_smoothing, "attitude_smoothing"))(tt)
+            qs = _smoothing_spline(tt, q, _positive(attitude_smoothing, "attitude_smoothing"),
+                                   "attitude_smoothing")(tt)
             q = qs / np.linalg.norm(qs, axis=1, keepdims=True)
         self._rot = RotationSpline(tt, Rotation.from_quat(q, scalar_first=True))
 
@@ -208,10 +219,15 @@ class PoseMotion(_Spline):
                 f"smoothing={self.smoothing}, attitude_smoothing={self.attitude_smoothing})")
 
 
+#: The largest smoothing noise level (m or rad): its square times the pose count stays finite.
+MAX_SMOOTHING = 1e6
+
+
 def _positive(x, name: str) -> float:
     x = float(x)
-    if not np.isfinite(x) or x <= 0:
-        raise ImunavError(f"{name} must be a positive noise level, got {x!r}")
+    if not np.isfinite(x) or x <= 0 or x > MAX_SMOOTHING:
+        raise ImunavError(f"{name} must be a positive noise level of at most {MAX_SMOOTHING:g}, "
+                          f"got {x!r}", argument=name)
     return x
 
 
@@ -228,16 +244,77 @@ class _Stack:
         return _Stack(s.derivative(nu) for s in self.splines)
 
 
-def _smoothing_spline(t: FloatArray, y: FloatArray, sigma: float) -> _Stack:
+#: Smoothing splines of more poses are refused up front: FITPACK's knot search grows faster
+#: than the record (1e5 poses: 6 s a column at best, far more with σ below the noise).
+MAX_SMOOTHED_POSES = 200_000
+
+
+def _smoothing_spline(t: FloatArray, y: FloatArray, sigma: float, what: str = "smoothing"
+                      ) -> _Stack:
     """Quintic smoothing splines of each column: residual sum ``n σ²`` (FITPACK's rule).
 
     FITPACK's own ``splrep`` (Fortran), not ``make_splrep`` (its Python port, same spline to
     1e-13): with σ below the data's noise the knot search nearly interpolates, which took the
-    port 84 s on 3001 poses and ``splrep`` 0.8 s."""
+    port 84 s on 3001 poses and ``splrep`` 0.8 s (and ``splrep`` 450 s on 10 000 poses). Each
+    fit runs in a worker thread (``splrep`` releases the GIL) so that the caller's thread keeps
+    answering signals (SIGTERM, Ctrl-C: FITPACK itself cannot be interrupted) and shows a
+    progress bar on fits longer than a few seconds."""
     from scipy.interpolate import BSpline, splrep
 
-    return _Stack(BSpline(*splrep(t, y[:, j], k=5, s=t.size * sigma**2), extrapolate=True)
-                  for j in range(y.shape[1]))
+    if t.size > MAX_SMOOTHED_POSES:
+        raise ImunavError(f"{what} of {t.size} poses: too many for a smoothing spline (at "
+                          f"most {MAX_SMOOTHED_POSES}: its knot search grows faster than the "
+                          "record); decimate the poses or fit them in pieces", argument=what)
+    fits = [lambda j=j: splrep(t, y[:, j], k=5, s=t.size * sigma**2) for j in range(y.shape[1])]
+    return _Stack(BSpline(*tck, extrapolate=True)
+                  for tck in run_in_background(fits, f"{what} spline"))
+
+
+#: Seconds a background computation runs before its progress bar appears.
+PROGRESS_DELAY = 3.0
+
+
+def run_in_background(jobs, desc: str) -> list:
+    """The results of ``jobs`` (callables without arguments), each run in a daemon worker
+    thread while this thread waits in short steps: signal handlers (SIGTERM, Ctrl-C) keep
+    running here while a job sits in C code that releases the GIL, and a tqdm bar (on stderr,
+    not inside a notebook kernel) counts the jobs after :data:`PROGRESS_DELAY` seconds. A job's
+    exception is raised here."""
+    import sys
+    import threading
+    import time
+
+    results, start, bar = [], time.monotonic(), None
+    try:
+        for i, job in enumerate(jobs):
+            box: dict = {}
+
+            def work(job=job, box=box):
+                try:
+                    box["value"] = job()
+                except BaseException as exc:          # handed to the waiting thread
+                    box["error"] = exc
+
+            worker = threading.Thread(target=work, daemon=True, name=f"imunav {desc}")
+            worker.start()
+            while worker.is_alive():
+                worker.join(0.2)
+                if (bar is None and time.monotonic() - start > PROGRESS_DELAY
+                        and "ipykernel" not in sys.modules):    # stored notebooks stay as run
+                    from tqdm import tqdm
+
+                    bar = tqdm(total=len(jobs), initial=i, desc=desc, unit="fit")
+                if bar is not None:
+                    bar.refresh()
+            if "error" in box:
+                raise box["error"]
+            results.append(box["value"])
+            if bar is not None:
+                bar.update(1)
+    finally:
+        if bar is not None:
+            bar.close()
+    return results
 
 
 # --------------------------------------------------------------------------------- waypoints

@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from imunav.core.rotations import FloatArray
+from imunav.core.validation import ImunavError
 
 
 def gauss_markov_allan_variance(tau: FloatArray, sigma: float, T: float) -> FloatArray:
@@ -175,20 +176,29 @@ def fit_allan(x: FloatArray, rate: float, *, min_share: float = 0.5, min_decades
     avar = (np.asarray(adev).reshape(len(taus), -1) ** 2).mean(axis=1)
     dof = k * allan_dof(n, taus * rate)
     X = np.column_stack([1 / taus, np.ones_like(taus), taus / 3])    # N², B², K² columns
+    if not np.all(np.isfinite(avar)) or avar.max() <= 0:
+        # a constant record (an ideal or fully quantised signal): no noise, nothing to fit —
+        # and zero variances would give the weights below no scale (they were infinite)
+        why = ("the record is constant on every axis (zero Allan deviation): there is no "
+               "noise to fit")
+        return {"taus": taus, "avar": avar, "adev_axes": np.asarray(adev).reshape(len(taus), -1),
+                "dof": dof, "terms": {name: {"value": None, "why": why} for name in FIT_TERMS},
+                "model": np.zeros_like(taus), "samples": n, "rate": rate}
+    floor = 1e-12 * float(avar.max())          # a weight's scale: never infinite, never binding
     keep = [0, 1, 2]
     why = {}
     for _ in range(3):                                                 # drop, refit
         coef = np.zeros(3)
         model = avar.copy()
         for _ in range(8):                                             # IRLS
-            w = np.sqrt(dof / 2) / np.maximum(model, 1e-300)          # 1/SE of each σ̂²
+            w = np.sqrt(dof / 2) / np.maximum(model, floor)           # 1/SE of each σ̂²
             c, _ = nnls(X[:, keep] * w[:, None], avar * w)
             coef[:] = 0.0
             coef[keep] = c
             model = X @ coef
         dropped = False
         for j in list(keep):
-            share = X[:, j] * coef[j] / np.maximum(model, 1e-300)
+            share = X[:, j] * coef[j] / np.maximum(model, floor)
             dom = share > min_share
             span = np.log10(taus[dom].max() / taus[dom].min()) if dom.sum() > 1 else 0.0
             rel = _rel_se(dof, share, dom)
@@ -220,3 +230,79 @@ def fit_allan(x: FloatArray, rate: float, *, min_share: float = 0.5, min_decades
             terms[name] = {"value": None, "why": why.get(name, "not present in the record")}
     return {"taus": taus, "avar": avar, "adev_axes": np.asarray(adev).reshape(len(taus), -1),
             "dof": dof, "terms": terms, "model": np.sqrt(X @ coef), "samples": n, "rate": rate}
+
+
+#: The largest spread of a static record's one-second means (SI): a sensor at rest drifts
+#: far less (bias instability, random walk, temperature), any motion far more.
+STATIC_SPREAD = {"gyro": np.radians(2.0), "accel": 0.5}
+
+#: Fewest samples an Allan fit takes.
+MIN_SAMPLES = 100
+
+
+def check_static(x: FloatArray, rate: float, triad: str, what: str = "the record") -> None:
+    """Refuse a record that is not at rest: the means of one-second blocks (at least 10
+    samples) of each axis must stay within :data:`STATIC_SPREAD` of each other.
+
+    Parameters
+    ----------
+    x : ndarray, shape (n, 3)
+        Rate samples.
+    rate : float
+        Hz.
+    triad : {"gyro", "accel"}
+    what : str
+        How the message names the record.
+
+    Raises
+    ------
+    ImunavError
+        Naming the triad, the axis, the spread and the limit.
+    """
+    x = np.asarray(x, float)
+    block = max(10, int(round(rate)))
+    nb = x.shape[0] // block
+    if nb < 2:
+        return
+    means = x[:nb * block].reshape(nb, block, -1).mean(axis=1)
+    spread = means.max(axis=0) - means.min(axis=0)
+    axis = int(np.argmax(spread))
+    limit = STATIC_SPREAD[triad]
+    if spread[axis] > limit:
+        unit, scale = ("°/s", np.degrees(1.0)) if triad == "gyro" else ("m/s²", 1.0)
+        raise ImunavError(
+            f"{what} is not a static record: the {triad}'s {block / rate:.3g}-s means on axis "
+            f"{'xyz'[axis] if axis < 3 else axis} vary by {spread[axis] * scale:.3g} {unit} (a "
+            f"sensor at rest, less than {limit * scale:g} {unit}); an Allan fit needs the IMU "
+            "at rest for the whole record")
+
+
+def allan_fits(signals, what: str = "the record") -> dict:
+    """The Allan fits of a static record's gyro and accelerometer (:func:`fit_allan`), after
+    checking that it is one (:func:`check_static`) and long enough.
+
+    Parameters
+    ----------
+    signals : ImuSignals
+        Rate samples.
+    what : str
+        How messages name the record (its file).
+
+    Returns
+    -------
+    dict
+        ``{"gyro": fit, "accel": fit}``.
+
+    Raises
+    ------
+    ImunavError
+        For too few samples, or a record that is not static.
+    """
+    if len(signals) < MIN_SAMPLES:
+        raise ImunavError(f"{what}: {len(signals)} samples are too few for an Allan deviation "
+                          f"(at least {MIN_SAMPLES}: a static record of minutes to hours is "
+                          "needed)")
+    gyro, accel = signals.omega, signals.specific_force
+    check_static(gyro, signals.rate, "gyro", what)
+    check_static(accel, signals.rate, "accel", what)
+    return {"gyro": fit_allan(gyro, signals.rate), "accel": fit_allan(accel, signals.rate)}

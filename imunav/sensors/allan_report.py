@@ -2,14 +2,39 @@
 prints, each value in SI and in the datasheet unit its term is shown in
 (:meth:`~imunav.sensors.terms.Term.show`).
 
-May import: ``imunav.core``, ``imunav.sensors.terms``.
+May import: ``imunav.core``, ``imunav.sensors.terms``, ``imunav.sensors.allan``.
 """
 
 from __future__ import annotations
 
+from imunav.sensors.allan import FIT_TERMS
 from imunav.sensors.terms import TERMS
 
-__all__ = ["format_allan", "imu_toml"]
+__all__ = ["format_allan", "imu_toml", "not_from_static"]
+
+
+def not_from_static(triad: str) -> list[str]:
+    """The error terms of ``triad`` an Allan fit of a static log does not give (the registry's,
+    less the fitted ones): the turn-on bias (its spread from one power-up to the next), the
+    scale factor, the misalignment, the g-sensitivity — they need turn-ons or motion — and the
+    datasheet's resolution and range.
+
+    Parameters
+    ----------
+    triad : {"gyro", "accel"}
+
+    Returns
+    -------
+    list of str
+    """
+    return [name for name, term in TERMS.items()
+            if term.is_error and triad in term.triads and name not in FIT_TERMS]
+
+
+def _caveat(fits: dict) -> str:
+    names = ", ".join(f"{triad}.{name}" for triad in fits for name in not_from_static(triad))
+    return (f"a static log cannot give {names}: they are left out of the model — add them "
+            "from the datasheet before an assessment, which is optimistic without them")
 
 
 def _datasheet(triad: str, name: str, si: float) -> str:
@@ -42,6 +67,7 @@ def imu_toml(fits: dict, source: str) -> str:
              "# floor, as datasheets quote bias instability (the IEEE 952 flicker coefficient is",
              "# B/0.664). Values are SI; ± is the Allan deviation's sampling error where the term",
              "# dominates.",
+             f"# Warning: {_caveat(fits)}.",
              'name = "fitted"']
     for triad, fit in fits.items():
         lines.append(f"\n[{triad}]")
@@ -80,4 +106,5 @@ def format_allan(fits: dict, path) -> str:
                 lo, hi = term["tau_range"]
                 lines.append(f"  {triad + '.' + name:24s} {_datasheet(triad, name, term['value']):>16s}"
                              f"  ± {100 * term['se'] / term['value']:.1f} %   (τ {lo:.3g}–{hi:.3g} s)")
+    lines.append(f"  Warning: {_caveat(fits)}.")
     return "\n".join(lines)

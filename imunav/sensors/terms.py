@@ -108,6 +108,8 @@ class Parameter:
     qualifier : bool
         True for a parameter that only qualifies another (a correlation time): it is kept when
         a model is reduced to one term (:meth:`~imunav.sensors.models.TriadModel.only`).
+    positive : bool
+        True where 0 is not a value (a range: it would clip everything): it is refused.
     """
 
     key: str
@@ -116,6 +118,7 @@ class Parameter:
     default: float | None = 0.0
     limits: tuple[float, float, str] | None = None
     qualifier: bool = False
+    positive: bool = False
 
 
 @dataclass
@@ -623,7 +626,9 @@ class Range(Term):
     """Saturation: outputs beyond ±range are clipped and flagged."""
 
     name, stage, linear = "range", "saturation", False
-    parameters_ = (_main("range", _tables(U.RATE, U.ACCEL), _both("measurement range"), None),)
+    parameters_ = (Parameter("range", _tables(U.RATE, U.ACCEL), _both("measurement range"), None,
+                             positive=True),)
+    display = {"gyro": ("deg/s", "°/s", "rad/s"), "accel": ("g", "g", "m/s²")}
 
     def saturate(self, model, y: FloatArray) -> tuple[FloatArray, np.ndarray]:
         """``(clipped y, flag per sample)``."""
@@ -636,9 +641,11 @@ class Range(Term):
         """No linear model: a warning when the motion exceeds the range."""
         if self.present(model) and ctx.peak > model.range:
             what = "angular rate" if ctx.triad == "gyro" else "specific force"
-            ctx.warnings.append(f"the motion's {what} reaches {ctx.peak:.3g}, beyond the "
-                                f"{ctx.triad} range {model.range:.3g} (SI): clipping is not in "
-                                "the covariance; use Monte Carlo")
+            t = ctx.triad
+            peak = self.show(ctx.peak, t, typographic=True)
+            limit = self.show(model.range, t, typographic=True)
+            ctx.warnings.append(f"the motion's {what} reaches {peak}, beyond the {t} range "
+                                f"{limit}: clipping is not in the covariance; use Monte Carlo")
         return []
 
 
@@ -854,10 +861,23 @@ def parse(value, key: str) -> float:
     if name not in table:
         known = ", ".join(f"{t}.{k}" for t in TRIADS for k in parameters(t))
         raise ImunavError(f"unknown error parameter {key!r}; known: {known}")
-    _, p = table[name]
+    term, p = table[name]
     v = U.convert(value, p.units[triad], key, p.description[triad])
     if p.limits and not p.limits[0] <= v <= p.limits[1]:
         lo, hi, why = p.limits
         raise ImunavError(f"{key} = {show(value)} is outside {lo:g}–{hi:g} (SI): {why}")
+    if v > MAX_VALUE:
+        unit = (term.si_unit(triad) if p is term.parameters_[0] and term.display.get(triad)
+                else "SI units")
+        raise ImunavError(f"{key} = {show(value)} is beyond any sensor: at most {MAX_VALUE:g} "
+                          f"{unit}")
+    if p.positive and v == 0:
+        raise ImunavError(f"{key} = {show(value)}: it must be > 0 (a {name} of 0 would clip every "
+                          "sample); leave it out for none")
     return v
+
+
+#: The largest value of any parameter in SI: far beyond every sensor (and its squares and
+#: products along an analysis stay finite).
+MAX_VALUE = 1e9
 

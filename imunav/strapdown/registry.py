@@ -315,7 +315,16 @@ class StreamNavigator:
         w1 = min(end, hi + self.own + self.after)
         g, a = self._window(w0, w1)
         with np.errstate(all="ignore"):                           # checked just below
-            q, v, p = self.algo.func(g, a, self.h, *self.state, self.g, lo - w0, hi - lo)
+            try:
+                q, v, p = self.algo.func(g, a, self.h, *self.state, self.g, lo - w0, hi - lo)
+            except ImunavError as exc:          # an internal array's check ("phi contains NaN")
+                if "NaN or inf" not in str(exc):
+                    raise
+                big = float(max(np.abs(g).max(), np.abs(a).max()))
+                raise ImunavError(
+                    f"navigation became non-finite between t = {self.t0 + lo * self.h:.9g} and "
+                    f"{self.t0 + hi * self.h:.9g} s: the signals are too large to integrate "
+                    f"(up to {big:.3g} in SI units); check their units") from None
         # a NaN or inf propagates through every recursion to the chunk's last state
         if not (np.isfinite(q[-1]).all() and np.isfinite(v[-1]).all() and np.isfinite(p[-1]).all()):
             ok = (np.isfinite(q).all(axis=-1) & np.isfinite(v).all(axis=-1)
