@@ -144,3 +144,17 @@ def test_find_outage_is_the_longest_within_the_tolerance(drive):
     for s2 in (30.0, 60.0):
         g = O.find_outage(drive, imu, aiding, RATE, tol, 120.0, at=at, start=s2, budget=False)
         assert g["max_outage_s"] >= L
+
+
+def test_filter_monte_carlo_on_dask_is_the_local_run_bit_for_bit(drive):
+    distributed = pytest.importorskip("dask.distributed")
+    imu = ImuModel.load("BMI088")
+    aiding = _aiding(outages=[[4, 6]])
+    kw = {"seed": 4, "times": np.array([5.0, 8.0]), "progress": False}
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  dashboard_address=None) as cluster:
+        d = O.aided_monte_carlo(drive, imu, aiding, 20.0, 8.0, O.MC_CHUNK + 2,
+                                scheduler=cluster.scheduler_address, **kw)
+    loc = O.aided_monte_carlo(drive, imu, aiding, 20.0, 8.0, O.MC_CHUNK + 2, **kw)
+    assert d.runs == O.MC_CHUNK + 2
+    assert np.array_equal(d.position_error, loc.position_error)
