@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from imunav import ImunavError, simulate_imu
-from imunav.analysis.zupt import match_stances, thin_stances, zupt_walk
+from imunav.analysis.zupt import detect_stances, match_stances, thin_stances, zupt_walk
 from imunav.cli import main
 from imunav.core.kernels import quat_rotate
 from imunav.core.rotations import quat_mul
@@ -279,6 +279,7 @@ def test_shoe_finds_every_stance_of_the_adis16470_walk_and_no_other(adis_walks):
     m = adis_walks["shoe"].match
     assert (m.true, m.missed, m.false) == (274, 0, 0)   # the 2 s rest + 273 strides
     assert m.detected == 274
+    assert detect_stances(foot_walk(300.0), "ADIS16470", 100.0, seed=3) == m   # same samples
     assert m.coverage > 0.95                                   # it trims a stance's edges
     assert adis_walks["truth"].match.missed == 0
 

@@ -29,7 +29,8 @@ from imunav.sensors.aiding import AidingConfig, AidingData, shoe_intervals, shoe
 from imunav.sensors.models import ImuModel
 from imunav.sensors.simulate import simulate_imu
 
-__all__ = ["StanceMatch", "WalkRun", "match_stances", "thin_stances", "walk_table", "zupt_walk"]
+__all__ = ["StanceMatch", "WalkRun", "detect_stances", "match_stances", "thin_stances",
+           "walk_table", "zupt_walk"]
 
 
 @dataclass(frozen=True)
@@ -237,18 +238,9 @@ def zupt_walk(motion: BaseMotion, imu: ImuModel | str, rate: float = 100.0, *,
     if not hasattr(motion, "stance_intervals"):
         raise ImunavError("motion must be a walk with stance_intervals() (foot_walk)")
     model = ImuModel.load(imu) if isinstance(imu, str) else imu
-    duration = float(motion.duration)
-    sig = simulate_imu(motion, rate, duration, output="increments", imu=model, seed=seed)
+    sig, found, stat, ts = _detect(motion, model, rate, seed, threshold, window)
     true = motion.stance_intervals()
-    # the detector on the mean rates of each interval, at the interval's middle (as the
-    # filter's own "shoe" path)
-    h = 1.0 / rate
-    w, a, ts = sig.gyro / h, sig.accel / h, sig.t - h / 2
-    stat = shoe_statistic(w, a, g=sig.g, window=window)
-    if detector == "truth":
-        used = true
-    else:
-        used = shoe_intervals(ts, w, a, g=sig.g, window=window, threshold=threshold)
+    used = true if detector == "truth" else found
     t_nodes = sig.state_times()
     cfg = AidingConfig.from_dict({"zupt": {"sigma": sigma, "detector": "truth"}})
     data = AidingData(zupt=thin_stances(used, t_nodes, zupt_rate))
@@ -262,6 +254,43 @@ def zupt_walk(motion: BaseMotion, imu: ImuModel | str, rate: float = 100.0, *,
     stride_err = np.interp(mid, res.t, err)
     return WalkRun(res, detector, used, match_stances(true, used), distance, float(err[-1]),
                    float(err.max()), mid, stride_err, stat, ts)
+
+
+def _detect(motion, model, rate, seed, threshold, window):
+    """The IMU record of the walk and the SHOE detector on it: the mean rates of each
+    increment at the interval's middle, as the filter's own ``"shoe"`` path."""
+    sig = simulate_imu(motion, rate, float(motion.duration), output="increments", imu=model,
+                       seed=seed)
+    h = 1.0 / rate
+    w, a, ts = sig.gyro / h, sig.accel / h, sig.t - h / 2
+    stat = shoe_statistic(w, a, g=sig.g, window=window)
+    found = shoe_intervals(ts, w, a, g=sig.g, window=window, threshold=threshold)
+    return sig, found, stat, ts
+
+
+def detect_stances(motion: BaseMotion, imu: ImuModel | str, rate: float = 100.0, *,
+                   threshold: float = 3e4, window: int = 3, seed: int = 0) -> StanceMatch:
+    """The SHOE detector on the IMU record of :func:`zupt_walk` (same seed, same samples),
+    against the true stances — without running the filter.
+
+    Parameters
+    ----------
+    motion : BaseMotion
+        A walk with ``stance_intervals()``.
+    imu : ImuModel or str
+    rate : float
+        IMU rate (Hz).
+    threshold, window : float, int
+        The SHOE detector's.
+    seed : int
+
+    Returns
+    -------
+    StanceMatch
+    """
+    model = ImuModel.load(imu) if isinstance(imu, str) else imu
+    found = _detect(motion, model, rate, seed, threshold, window)[1]
+    return match_stances(motion.stance_intervals(), found)
 
 
 def walk_table(motion: BaseMotion, presets: list[str], rate: float = 100.0, *,
