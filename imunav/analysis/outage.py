@@ -511,16 +511,41 @@ def format_aided_verdict(r: dict) -> str:
 
 # ----------------------------------------------------------------------------- design
 
-def _lost_from(at: AlongTruth, starts: FloatArray, *, imu_scale: float = 1.0
-               ) -> tuple[FloatArray, FloatArray]:
-    """The p95 position error of one scenario per start: GNSS lost from that start to the end
-    of the motion (one pass). Up to the fix after it, an outage ``[s, s + L]`` is exactly this
-    scenario (the covariance is causal), so its cumulative maximum after ``s`` answers every
-    length at once."""
-    act = _active(at, [[(float(s), float(at.t[-1]) + 1.0)] for s in starts])
+def _lost_from(at: AlongTruth, starts: FloatArray, tolerance: float, *,
+               imu_scale: float = 1.0, chunk: float = 10.0) -> list[tuple[FloatArray, FloatArray]]:
+    """Per start (ascending): the epochs' times and true position covariances of the scenario
+    "GNSS lost for good at that start", until the p95 passes ``tolerance`` (or the end). Up to
+    the fix after it, an outage ``[s, s + L]`` is exactly this scenario (the covariance is
+    causal), so it answers every length at once. Before its start a scenario is the baseline
+    (every fix), so the baseline is walked once and each scenario started from it, and stopped
+    ``chunk`` seconds after it passes the tolerance at the latest."""
     wf, wt, _ = at.weights(imu_scale)
-    res = at.propagate(wf, wt, act)
-    return res.t, res.truth_post[:, 0][:, :, DP, DP]
+    E = at.t.size - 1
+    base_act = _active(at, [[]])
+    out = []
+    e0, P = 0, None
+    step = max(1, int(round(chunk / max(np.diff(at.t).mean(), 1e-9))))
+    for s0 in starts:
+        e_b = max(0, int(np.searchsorted(at.t, s0 - 1e-9)) - 1)   # the last epoch before s0
+        if P is None:                                            # from the initial covariance
+            P = at.propagate(wf, wt, base_act, stop=e_b, keep=False).final
+        elif e_b > e0:
+            P = at.propagate(wf, wt, base_act, start=e0, stop=e_b, P_start=P, keep=False).final
+        e0 = e_b
+        act = _active(at, [[(float(s0), float(at.t[-1]) + 1.0)]])
+        ts, Ps, Pc, e = [], [], P, e_b
+        while e < E:
+            stop = min(E, e + step)
+            res = at.propagate(wf, wt, act, start=e, stop=stop, P_start=Pc)
+            Pp = res.truth_post[0, 0][1:][:, DP, DP]
+            ts.append(res.t[1:])
+            Ps.append(Pp)
+            Pc, e = res.final, stop
+            if _over(Pp, tolerance).any():
+                break
+        out.append((np.concatenate(ts) if ts else np.zeros(0),
+                    np.concatenate(Ps) if Ps else np.zeros((0, 3, 3))))
+    return out
 
 
 def _over(P: FloatArray, tolerance: float) -> np.ndarray:
@@ -598,14 +623,15 @@ def find_outage(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: f
                               "settles", argument="duration")
         cand = grid[np.unique(np.linspace(0, grid.size - 1, min(starts, grid.size)).round()
                               .astype(int))]
-    t, Ppos = _lost_from(at, cand)
+    scen = _lost_from(at, cand, tolerance)
     warnings = list(at.warnings)
     # per start: the longest L (whole GNSS intervals) with p95 ≤ tol on [s, s + L + dt)
     best_L = np.zeros(cand.size)
     limited = np.zeros(cand.size, dtype=bool)
     for b, s0 in enumerate(cand):
+        t, Pb = scen[b]
         after = np.nonzero(t >= s0 - 1e-9)[0]
-        over = after[_over(Ppos[b, after], tolerance)]
+        over = after[_over(Pb[after], tolerance)]
         if over.size == 0:
             # the whole rest of the motion (the last fix at or before the end)
             best_L[b] = (np.floor((T - s0) / dt + 1e-9)) * dt
@@ -624,9 +650,10 @@ def find_outage(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: f
         warnings.append(f"at {s_best:g} s the p95 position error exceeds the tolerance within "
                         "one GNSS interval even with every fix")
         L = 0.0
+    t, Pb = scen[b]
     win = np.nonzero((t >= s_best - 1e-9) & (t < s_best + L + dt - 1e-9))[0]
-    e_end = win[-1] if win.size else int(np.searchsorted(t, s_best))
-    end_p95 = float(norm_quantile(Ppos[b, e_end], P95))
+    e_end = win[-1] if win.size else 0
+    end_p95 = float(norm_quantile(Pb[e_end], P95))
     r = {"max_outage_s": L, "outage_start_s": s_best, "position_p95_end_m": end_p95,
          "limited_by_motion": bool(limited[b]), "gnss_interval_s": dt,
          "starts_compared": int(cand.size)}
