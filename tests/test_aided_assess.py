@@ -158,3 +158,11 @@ def test_filter_monte_carlo_on_dask_is_the_local_run_bit_for_bit(drive):
     loc = O.aided_monte_carlo(drive, imu, aiding, 20.0, 8.0, O.MC_CHUNK + 2, **kw)
     assert d.runs == O.MC_CHUNK + 2
     assert np.array_equal(d.position_error, loc.position_error)
+
+
+def test_common_scale_is_the_largest_imu_factor_within_the_tolerance(drive):
+    at = O.aided_covariance(drive, ImuModel.load("BMI088"), _aiding(), RATE, 60.0)
+    tol = 15.0
+    k = O.common_scale(at, tol, [OUTAGE])
+    assert O.outage_p95(at, [OUTAGE], imu_scale=k)[1].max() <= tol
+    assert O.outage_p95(at, [OUTAGE], imu_scale=k * 1.05)[1].max() > tol

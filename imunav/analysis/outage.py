@@ -699,38 +699,45 @@ def bridgeable_outages(motion: BaseMotion, aiding: AidingConfig, rate: float, to
     return rows
 
 
-def common_scale(at: AlongTruth, tolerance: float, outages, *, iters: int = 6) -> float:
+def common_scale(at: AlongTruth, tolerance: float, outages, *, rtol: float = 0.01,
+                 iters: int = 8) -> float:
     """The largest factor on every IMU term for which the p95 position error stays within
-    ``tolerance`` over the whole motion with these outages (bisection on a log scale; the
-    filter's gains change with the IMU, so each trial is one pass).
+    ``tolerance`` over the whole motion with these outages. The filter's gains change with the
+    IMU, so each trial is one pass; the largest p95 grows smoothly and nearly as a power of the
+    factor, so a secant on its logarithms lands within ``rtol`` of the tolerance in a few
+    passes (the answer is the largest factor tried that passes).
 
     Parameters
     ----------
     at : AlongTruth
     tolerance : float
     outages : list of (float, float)
+    rtol : float
+        Stop when the p95 is this close to the tolerance (relative).
     iters : int
+        At most this many secant steps.
 
     Returns
     -------
     float
+        0 when even the smallest factor tried exceeds the tolerance (the aids' own errors do).
     """
-    def ok(k):
-        return outage_p95(at, outages, imu_scale=k)[1].max() <= tolerance
+    def worst(k):
+        return float(outage_p95(at, outages, imu_scale=k)[1].max())
 
-    lo, hi = 1.0, 1.0
-    if ok(1.0):
-        while ok(hi * 4) and hi < 1e6:
-            hi *= 4
-        lo, hi = hi, hi * 4
-    else:
-        while not ok(lo / 4) and lo > 1e-6:
-            lo /= 4
-        lo, hi = lo / 4, lo
+    tried = [(1.0, worst(1.0))]
+    k1 = tolerance / tried[0][1] if tried[0][1] > 0 else 1e3
+    tried.append((k1, worst(k1)))
     for _ in range(iters):
-        mid = np.sqrt(lo * hi)
-        lo, hi = (mid, hi) if ok(mid) else (lo, mid)
-    return float(lo)
+        (k0, p0), (k1, p1) = tried[-2], tried[-1]
+        if abs(p1 / tolerance - 1) < rtol or p1 <= 0:
+            break
+        slope = (np.log(p1) - np.log(p0)) / (np.log(k1) - np.log(k0)) if k1 != k0 else 1.0
+        slope = float(np.clip(slope, 0.05, 2.0))
+        k2 = k1 * (tolerance / p1) ** (1 / slope) * (1 - rtol / 2)
+        tried.append((k2, worst(k2)))
+    ok = [k for k, p in tried if p <= tolerance]
+    return float(max(ok)) if ok else 0.0
 
 
 def design_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: float,
