@@ -730,7 +730,7 @@ def common_scale(at: AlongTruth, tolerance: float, outages, *, rtol: float = 0.0
     tried.append((k1, worst(k1)))
     for _ in range(iters):
         (k0, p0), (k1, p1) = tried[-2], tried[-1]
-        if abs(p1 / tolerance - 1) < rtol or p1 <= 0:
+        if p1 <= 0 or 0 <= 1 - p1 / tolerance < rtol:         # just within: done
             break
         slope = (np.log(p1) - np.log(p0)) / (np.log(k1) - np.log(k0)) if k1 != k0 else 1.0
         slope = float(np.clip(slope, 0.05, 2.0))
@@ -813,10 +813,14 @@ def format_outage_design(r: dict) -> str:
                      f"m at t = {r['time_max_p95_s']:.4g} s.")
     if r.get("common_scale") is not None:
         cs = r["common_scale"]
-        lines.append("  All IMU terms together: within the tolerance up to "
-                     f"{cs:.3g} × this IMU's values"
-                     + (" (it already meets it)." if cs >= 1 else
-                        f" (its errors must shrink {1 / cs:.3g}-fold)."))
+        if cs > 0:
+            lines.append("  All IMU terms together: within the tolerance up to "
+                         f"{cs:.3g} × this IMU's values"
+                         + (" (it already meets it)." if cs >= 1 else
+                            f" (its errors must shrink {1 / cs:.3g}-fold)."))
+        else:
+            lines.append("  No scale of this IMU's terms tried meets the tolerance with these "
+                         "aids.")
     if r.get("error_budget") and "max_p95_position_m" in r:
         lines.append(f"  Error budget at t = {r['error_budget_at_s']:.4g} s (p95 of each "
                      "source alone):")
