@@ -27,6 +27,7 @@ import numpy as np
 
 from imunav.analysis.assessment import assess, format_verdict
 from imunav.analysis.design import design, format_design
+from imunav.analysis.outage import assess_aided, design_aided, format_aided_verdict, format_outage_design
 from imunav.core.constants import G0
 from imunav.core.resources import check_disk
 from imunav.core.validation import ImunavError, check_positive
@@ -81,6 +82,20 @@ def _positive(name):
                                              f"{text!r}") from None
         except ImunavError as exc:
             raise argparse.ArgumentTypeError(str(exc)) from None
+
+    return conv
+
+
+def _nonnegative(name):
+    def conv(text):
+        """Convert the option's text, or an argparse error naming it."""
+        try:
+            v = float(text)
+        except ValueError:
+            v = float("nan")
+        if not (np.isfinite(v) and v >= 0):
+            raise argparse.ArgumentTypeError(f"{name} must be a number ≥ 0, got {text!r}")
+        return v
 
     return conv
 
@@ -220,6 +235,14 @@ def build_parser() -> argparse.ArgumentParser:
                         "without it the status is 0 whatever the verdict)")
     a.add_argument("--scheduler", metavar="ADDRESS",
                    help="run the Monte Carlo on a Dask cluster (imunav[dask])")
+    a.add_argument("--aiding", metavar="AIDING.toml",
+                   help="aided: the error-state filter with these aids (GNSS with its outages, "
+                        "baro, heading, NHC, ZUPT) — its covariance along the true motion, or "
+                        "with --runs a Monte Carlo of the filter; the verdict through every "
+                        "GNSS outage")
+    a.add_argument("--covariance-step", type=_positive("--covariance-step"), default=0.1,
+                   metavar="S", help="with --aiding: the filter's longest covariance step "
+                                     "(s, default 0.1)")
     _earth_options(a, vertical=True)
 
     d = sub.add_parser("design", help="the worst IMU that still meets a tolerance on a motion")
@@ -231,6 +254,15 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument("--tolerance", required=True, type=_positive("--tolerance"), metavar="M")
     d.add_argument("--json", metavar="OUT.json")
     _alignment_options(d)
+    d.add_argument("--aiding", metavar="AIDING.toml",
+                   help="aided: the filter with these aids (the file's GNSS outages kept for "
+                        "the IMU limits; replaced by the one searched with --find outage)")
+    d.add_argument("--find", choices=("outage",),
+                   help="with --aiding: outage — the longest GNSS outage whose p95 position "
+                        "error stays within the tolerance (max_outage_s)")
+    d.add_argument("--outage-start", type=_nonnegative("--outage-start"), metavar="S",
+                   help="with --find outage: the outage starts here (s; default where it "
+                        "hurts most)")
     _earth_options(d, vertical=True)
 
     al = sub.add_parser("allan", help="fit an IMU model (N, B, K) to a static recording's "
@@ -505,7 +537,8 @@ def format_innovations(innovations: dict) -> str:
 def cmd_assess(args) -> int:
     """``imunav assess``: the verdict, by covariance analysis or Monte Carlo."""
     model, imu_files = _imu(args.imu)
-    out = check_outputs({"--json": args.json}, [args.motion, *imu_files])
+    out = check_outputs({"--json": args.json},
+                        [args.motion, *imu_files] + ([args.aiding] if args.aiding else []))
     method = args.method or ("montecarlo" if args.runs is not None else "covariance")
     if method == "montecarlo" and args.runs is None:
         raise ImunavError("--method montecarlo needs --runs N")
@@ -516,6 +549,10 @@ def cmd_assess(args) -> int:
                 raise ImunavError(f"{opt} applies to --method montecarlo only")
     motion, duration, g_file = _motion(args)
     motion = _on_earth(args, motion, g_file)
+    if args.aiding is not None:
+        return _assess_aided(args, model, motion, duration, out)
+    if args.covariance_step != 0.1:
+        raise ImunavError("--covariance-step applies with --aiding only")
     al = _alignment(args, motion)
     r = assess(motion, model, args.rate, args.runs, args.tolerance, seed=args.seed or 0,
                duration=duration, scheduler=args.scheduler, method=method,
@@ -526,12 +563,68 @@ def cmd_assess(args) -> int:
     return 1 if args.check and not r["suitable"] else 0
 
 
+def _aiding_file(args) -> AidingConfig:
+    """--aiding: the aids of the flat-frame aided filter."""
+    if getattr(args, "earth", "flat") != "flat":
+        raise ImunavError("--aiding works in the flat frame so far (the aided covariance and "
+                          "Monte Carlo on --earth wgs84 are not there yet)")
+    aiding = AidingConfig.from_toml(args.aiding)
+    if not aiding.sensors:
+        raise ImunavError(f"--aiding {args.aiding} has no aiding sensor ([gnss], [baro], "
+                          "[heading], [nhc] or [zupt])")
+    return aiding
+
+
+def _assess_aided(args, model, motion, duration, out) -> int:
+    """``imunav assess --aiding``: the aided verdict through every GNSS outage."""
+    if args.alignment != "truth" or args.align_window is not None:
+        raise ImunavError("--alignment and --align-window apply without --aiding only (the "
+                          "aided analysis starts from the true attitude)")
+    aiding = _aiding_file(args)
+    if args.method == "montecarlo" and args.runs is None:
+        raise ImunavError("--method montecarlo needs --runs N")
+    if args.method == "covariance" and args.runs is not None:
+        raise ImunavError("--runs applies to --method montecarlo only")
+    if args.runs is None:
+        for opt, val in (("--seed", args.seed), ("--scheduler", args.scheduler)):
+            if val is not None:
+                raise ImunavError(f"{opt} applies to a Monte Carlo (--runs) only")
+    r = assess_aided(motion, model, aiding, args.rate, args.tolerance, duration,
+                     runs=args.runs, seed=args.seed or 0, scheduler=args.scheduler,
+                     covariance_step=args.covariance_step)
+    print(format_aided_verdict(r), file=_report(out))
+    if args.json:
+        write_json(r, out["--json"])
+    return 1 if args.check and not r["suitable"] else 0
+
+
+def _design_aided(args, model, motion, duration, out) -> int:
+    """``imunav design --aiding [--find outage]``."""
+    if args.alignment != "truth" or args.align_window is not None:
+        raise ImunavError("--alignment and --align-window apply without --aiding only (the "
+                          "aided analysis starts from the true attitude)")
+    aiding = _aiding_file(args)
+    r = design_aided(motion, model, aiding, args.rate, args.tolerance, duration,
+                     find=args.find, outage_start=args.outage_start)
+    print(format_outage_design(r), file=_report(out))
+    if args.json:
+        write_json(r, out["--json"])
+    return 0
+
+
 def cmd_design(args) -> int:
     """``imunav design``: the worst IMU that still meets the tolerance."""
     model, imu_files = _imu(args.imu)
-    out = check_outputs({"--json": args.json}, [args.motion, *imu_files])
+    out = check_outputs({"--json": args.json},
+                        [args.motion, *imu_files] + ([args.aiding] if args.aiding else []))
+    if args.aiding is None and (args.find or args.outage_start is not None):
+        raise ImunavError("--find and --outage-start need --aiding AIDING.toml")
+    if args.outage_start is not None and args.find != "outage":
+        raise ImunavError("--outage-start applies to --find outage only")
     motion, duration, g_file = _motion(args)
     motion = _on_earth(args, motion, g_file)
+    if args.aiding is not None:
+        return _design_aided(args, model, motion, duration, out)
     r = design(motion, model, args.rate, args.tolerance, duration=duration,
                vertical=args.vertical, **_alignment(args, motion))
     print(format_design(r), file=_report(out))
@@ -743,7 +836,8 @@ FLAGS = {"imu": "--imu", "smoothing": "--smoothing", "attitude_smoothing": "--at
          "tolerance": "--tolerance", "algorithm": "--algorithm", "initial": "--initial",
          "measurements": "--measurements", "covariance_step": "--covariance-step",
          "gate": "--gate", "origin": "--origin", "earth": "--earth", "g": "--g",
-         "alignment": "--alignment", "align_window": "--align-window"}
+         "alignment": "--alignment", "align_window": "--align-window",
+         "aiding": "--aiding", "outage_start": "--outage-start"}
 
 
 def flagged(exc: ImunavError) -> str:

@@ -121,6 +121,11 @@ def _things() -> dict[str, Thing]:
     t["tolerance"] = Thing("tolerance", "black", "--")
     t["montecarlo"] = Thing("Monte Carlo", "#56B4E9")
     t["covariance"] = Thing("covariance analysis", "#B3446C", "--")
+    # Aided navigation (notebook 10): the filter, the smoother, stance phases and their detector.
+    t["filter"] = Thing("filter", "#E25822")
+    t["smoother"] = Thing("smoother", "#008856")
+    t["true stance"] = Thing("true stance", "#848482")
+    t["SHOE"] = Thing("SHOE detector", "#875692")
     for ax, c in zip("xyz", ("#BE0032", "#008856", "#0067A5"), strict=True):
         t[f"axis.{ax}"] = Thing(f"{ax} axis", c)
     t["rates"] = Thing("rate samples", "#848482", "--")

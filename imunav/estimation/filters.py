@@ -58,9 +58,11 @@ May import: ``imunav.core``, ``imunav.earth``, ``imunav.sensors``, ``imunav.stra
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 import numpy.typing as npt
+from scipy.stats import chi2
 
 from imunav.core.kernels import (
     FloatArray,
@@ -248,7 +250,7 @@ class AidedSystem:
             B[:, :, sl.start - NAV:sl.stop - NAV] = self.model.sensor_input(traj, s.states)
         return B
 
-    def discretise(self, traj: Trajectory, h: float | None = None
+    def discretise(self, traj: Trajectory, h: float | None = None, Qc: FloatArray | None = None
                    ) -> tuple[FloatArray, FloatArray]:
         """The exact discrete system of each step of ``traj``.
 
@@ -258,6 +260,9 @@ class AidedSystem:
             The linearisation (the estimate in the filter, the truth in an analysis).
         h : float, optional
             The step (s); default ``traj.h``.
+        Qc : ndarray, shape (n,), optional
+            Another diagonal PSD of the white inputs (default :attr:`Qc`): ``Q_d`` is linear in
+            it, so an analysis can split the process noise by its sources.
 
         Returns
         -------
@@ -270,13 +275,14 @@ class AidedSystem:
         Phi = self.model.transition(traj, B, self.D, h)
         n = self.n
         Qd = np.zeros_like(Phi)
-        nz = self._noisy
+        Qc = self.Qc if Qc is None else np.asarray(Qc, dtype=float)
+        nz = self._noisy if Qc is self.Qc else np.nonzero(Qc)[0]
         if nz.size:
             # The sensor rows of Φ(s) are [0, diag(e^{D s})] (the sensor states evolve on their
             # own), so only the navigation rows of Φ(s) need products: the blocks of
             # Φ Qc Φᵀ are Φ_n Qc Φ_nᵀ, Γ diag(Qs e^{Ds}) and diag(Qs e^{2Ds}).
-            q = self.Qc[nz]
-            qs = self.Qc[NAV:]
+            q = Qc[nz]
+            qs = Qc[NAV:]
             x, w = GAUSS_LEGENDRE
             rows_at = self._flat_rows(traj, B) if self.model is FLAT else None
             for xi, wi in zip((x + 1) / 2 * h, w / 2 * h, strict=True):
@@ -543,13 +549,20 @@ def build_measurements(aiding: AidingConfig) -> dict[str, Measurement]:
     Returns
     -------
     dict
-        ``{"gnss": GnssFix, "baro": Baro, …}`` for the aids present.
+        ``{"gnss": GnssFix, "baro": Baro, …}`` for the aids present, as the filter assumes them
+        (``[gnss] correlated_model = "white"``: no correlated states, the white σ
+        ``√(position_sigma² + correlated_sigma²)``).
     """
     out: dict[str, Measurement] = {}
     if aiding.gnss:
         g = aiding.gnss
-        out["gnss"] = GnssFix(g.position_sigma, g.velocity_sigma, g.lever_arm,
-                              g.correlated_sigma, g.correlation_time)
+        if g.correlated_model == "white" and g.correlated_sigma > 0:
+            # the correlated error treated as white: its variance added, no states
+            out["gnss"] = GnssFix(float(np.hypot(g.position_sigma, g.correlated_sigma)),
+                                  g.velocity_sigma, g.lever_arm)
+        else:
+            out["gnss"] = GnssFix(g.position_sigma, g.velocity_sigma, g.lever_arm,
+                                  g.correlated_sigma, g.correlation_time)
     if aiding.baro:
         out["baro"] = Baro(aiding.baro.sigma, aiding.baro.bias_drift)
     if aiding.heading:
@@ -605,6 +618,57 @@ def _zupt_times(intervals: FloatArray, t_nodes: FloatArray) -> FloatArray:
 def _rates(t0: float, end: float, rate: float) -> FloatArray:
     n = int(np.floor((end - t0) * rate * (1 + 1e-12)))
     return t0 + np.arange(1, n + 1) / rate
+
+
+def _schedule(signals: ImuSignals, aiding: AidingConfig, data: AidingData,
+              meas: dict[str, Measurement], align: int) -> _Schedule:
+    """Every reading the filter uses, mapped to the IMU nodes (GNSS fixes inside the outages
+    left out; NHC without readings at its rate; ZUPT over the stance intervals)."""
+    kind, h, g = signals.kind, 1.0 / signals.rate, signals.g
+    M = len(signals)
+    N = M if kind == "increments" else M - 1
+    t_nodes = signals.state_times()
+    t0 = float(t_nodes[0])
+    sched = _Schedule(t0, h, N, align)
+    end = t0 + N * h
+    if "gnss" in meas:
+        r = data.gnss
+        if r is None:
+            raise ImunavError("aiding has [gnss] but no GNSS readings were given", argument="data")
+        vals = r.values
+        if aiding.gnss.velocity_sigma is not None and vals.shape[1] < 6:
+            raise ImunavError("[gnss] velocity_sigma is set but the GNSS readings have no "
+                              "velocity", argument="data")
+        keep = ~aiding.gnss.in_outage(r.t)
+        sched.add("gnss", r.t[keep], vals[keep, :meas["gnss"].size])
+    for name in ("baro", "heading"):
+        if name in meas:
+            r = getattr(data, name)
+            if r is None:
+                raise ImunavError(f"aiding has [{name}] but no {name} readings were given",
+                                  argument="data")
+            sched.add(name, r.t, r.values)
+    if "nhc" in meas:
+        r = data.nhc
+        if r is None:
+            tn = _rates(t0, end, aiding.nhc.rate)
+            r = Readings(tn, np.zeros((tn.size, 2)))
+        sched.add("nhc", r.t, r.values)
+    if "zupt" in meas:
+        if aiding.zupt.detector == "shoe":
+            w = signals.gyro / h if kind == "increments" else signals.gyro
+            a = signals.accel / h if kind == "increments" else signals.accel
+            ts = signals.t - (h / 2 if kind == "increments" else 0.0)
+            intervals = shoe_intervals(ts, w, a, g=g, window=aiding.zupt.window,
+                                       threshold=aiding.zupt.threshold)
+        else:
+            if data.zupt is None:
+                raise ImunavError("[zupt] detector = \"truth\" needs the stance intervals "
+                                  "(zupt.csv)", argument="data")
+            intervals = data.zupt
+        tz = _zupt_times(intervals, t_nodes)
+        sched.add("zupt", tz, np.zeros((tz.size, 3)))
+    return sched
 
 
 @limit_blas
@@ -690,45 +754,7 @@ def run_filter(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike, p0: np
     E = _Earth(h, t0, q0, v0, p0) if earth == "wgs84" else None
 
     # ---------------------------------------------------------------- the readings
-    sched = _Schedule(t0, h, N, algo.align)
-    end = t0 + N * h
-    if "gnss" in meas:
-        r = data.gnss
-        if r is None:
-            raise ImunavError("aiding has [gnss] but no GNSS readings were given", argument="data")
-        vals = r.values
-        if aiding.gnss.velocity_sigma is not None and vals.shape[1] < 6:
-            raise ImunavError("[gnss] velocity_sigma is set but the GNSS readings have no "
-                              "velocity", argument="data")
-        keep = ~aiding.gnss.in_outage(r.t)
-        sched.add("gnss", r.t[keep], vals[keep, :meas["gnss"].size])
-    for name in ("baro", "heading"):
-        if name in meas:
-            r = getattr(data, name)
-            if r is None:
-                raise ImunavError(f"aiding has [{name}] but no {name} readings were given",
-                                  argument="data")
-            sched.add(name, r.t, r.values)
-    if "nhc" in meas:
-        r = data.nhc
-        if r is None:
-            tn = _rates(t0, end, aiding.nhc.rate)
-            r = Readings(tn, np.zeros((tn.size, 2)))
-        sched.add("nhc", r.t, r.values)
-    if "zupt" in meas:
-        if aiding.zupt.detector == "shoe":
-            w = signals.gyro / h if kind == "increments" else signals.gyro
-            a = signals.accel / h if kind == "increments" else signals.accel
-            ts = signals.t - (h / 2 if kind == "increments" else 0.0)
-            intervals = shoe_intervals(ts, w, a, g=g, window=aiding.zupt.window,
-                                       threshold=aiding.zupt.threshold)
-        else:
-            if data.zupt is None:
-                raise ImunavError("[zupt] detector = \"truth\" needs the stance intervals "
-                                  "(zupt.csv)", argument="data")
-            intervals = data.zupt
-        tz = _zupt_times(intervals, t_nodes)
-        sched.add("zupt", tz, np.zeros((tz.size, 3)))
+    sched = _schedule(signals, aiding, data, meas, algo.align)
     gate = None if gate is None or gate >= 1 else gate
     logs: dict[str, list] = {name: [] for name in meas}
 
@@ -1114,3 +1140,312 @@ def _smooth(res: FilterResult, segs, x_last, P_last, system: AidedSystem, M_ep=N
     return FilterResult(sm, np.sqrt(var_nodes), ep, P_s, res.innovations, res.estimates,
                         res.layout, warnings=res.warnings)
 
+
+
+# ----------------------------------------------------------------------------- many runs at once
+
+@dataclass
+class BatchResult:
+    """What the filter estimated in each of R runs filtered at once (:func:`run_filter_batch`).
+
+    Attributes
+    ----------
+    t : ndarray, shape (N + 1,)
+        Node times (s).
+    quaternion : ndarray, shape (N + 1, R, 4)
+    velocity, position : ndarray, shape (N + 1, R, 3)
+        The estimates at every node.
+    epochs : ndarray of int, shape (E,)
+        The covariance epochs (node indices).
+    P_nav : ndarray, shape (E, R, 9, 9)
+        The navigation-error covariance at each epoch after its readings.
+    readings : dict
+        ``{sensor: readings per run}``.
+    rejected : dict
+        ``{sensor: (R,) readings the gate rejected}``.
+    algorithm : str
+    warnings : list of str
+    """
+
+    t: FloatArray
+    quaternion: FloatArray
+    velocity: FloatArray
+    position: FloatArray
+    epochs: np.ndarray
+    P_nav: FloatArray
+    readings: dict
+    rejected: dict
+    algorithm: str
+    warnings: list = field(default_factory=list)
+
+
+@limit_blas
+def run_filter_batch(signals: list[ImuSignals], q0: npt.ArrayLike, v0: npt.ArrayLike,
+                     p0: npt.ArrayLike, aiding: AidingConfig, data: list[AidingData], *,
+                     imu: ImuModel | None = None, algorithm: str | None = None,
+                     covariance_step: float = 0.1, gate: float | None = 0.9999,
+                     model: FlatErrorModel = FLAT) -> BatchResult:
+    """:func:`run_filter` on R runs at once — the same filter, its loop vectorised across runs
+    (what a Monte Carlo of the filter needs: the per-step work of one run is mostly call
+    overhead).
+
+    Every step is :func:`run_filter`'s, per run: the strapdown of the compensated samples (the
+    algorithms take R runs at once), the covariance steps linearised along each run's own
+    estimate (one discretisation for all runs' steps), the readings one after another with each
+    run's own χ² gate, the feedback. The runs must share the record (kind, rate, times) and the
+    reading times (their values differ); the states agree with :func:`run_filter` of each run
+    to rounding (``tests/test_aided_assess.py``).
+
+    Parameters
+    ----------
+    signals : list of ImuSignals
+        One record per run.
+    q0 : array_like, shape (R, 4) or (4,)
+    v0, p0 : array_like, shape (R, 3) or (3,)
+        The initial states.
+    aiding : AidingConfig
+    data : list of AidingData
+        One per run.
+    imu, algorithm, covariance_step, gate, model
+        As :func:`run_filter`.
+
+    Returns
+    -------
+    BatchResult
+
+    Raises
+    ------
+    ImunavError
+        As :func:`run_filter`, and for runs whose records or reading times differ (a SHOE
+        detector on noisy runs: filter them one by one).
+    """
+    R = len(signals)
+    if R < 1 or len(data) != R:
+        raise ImunavError(f"run_filter_batch needs one AidingData per run: {R} signals, "
+                          f"{len(data)} data", argument="data")
+    s0 = signals[0]
+    for s in signals:
+        if not isinstance(s, ImuSignals):
+            raise ImunavError(f"signals must be ImuSignals, got {type(s).__name__}")
+        if (s.kind, s.rate, s.g, len(s)) != (s0.kind, s0.rate, s0.g, len(s0)) or \
+                not np.array_equal(s.t, s0.t):
+            raise ImunavError("run_filter_batch needs runs of one record (kind, rate, g, times)",
+                              argument="signals")
+    check_positive(covariance_step, "covariance_step")
+    algo = resolve(s0.kind, algorithm)
+    q0 = np.broadcast_to(quat_normalize(as_float_array(q0, "q0", last=4), "q0"), (R, 4)).copy()
+    v0 = np.broadcast_to(as_float_array(v0, "v0", last=3), (R, 3)).copy()
+    p0 = np.broadcast_to(as_float_array(p0, "p0", last=3), (R, 3)).copy()
+    kind, h, g = s0.kind, 1.0 / s0.rate, s0.g
+    M = len(s0)
+    N = M if kind == "increments" else M - 1
+    if N < 1:
+        raise ImunavError(f"{kind} signals need at least {algo.min_samples} samples")
+    t_nodes = s0.state_times()
+    div = h if kind == "increments" else 1.0
+    gyro_raw = np.stack([s.gyro for s in signals], axis=1) / div          # (M, R, 3)
+    accel_raw = np.stack([s.accel for s in signals], axis=1) / div
+    imu = imu or ImuModel(name="ideal")
+    meas = build_measurements(aiding)
+    peaks = (float(np.linalg.norm(gyro_raw, axis=-1).max()),
+             float(np.linalg.norm(accel_raw, axis=-1).max()))
+    system = AidedSystem(imu, list(meas.values()), h=h, kind=kind,
+                         decimate=imu.decimation(s0.rate), peaks=peaks,
+                         initial=aiding.initial, model=model)
+    n = system.n
+    # ---------------------------------------------------------------- the readings
+    scheds = [_schedule(s, aiding, d, meas, algo.align) for s, d in zip(signals, data,
+                                                                       strict=True)]
+    at: dict[int, list] = {}
+    for k, rows in scheds[0].at.items():
+        others = [sc.at.get(k) for sc in scheds[1:]]
+        if any(o is None or [(r[0], r[2], r[3]) for r in o] != [(r[0], r[2], r[3])
+                                                                  for r in rows]
+               for o in others):
+            raise ImunavError("run_filter_batch needs the same reading times in every run",
+                              argument="data")
+        at[k] = [(name, np.stack([rows[i][1]] + [o[i][1] for o in others]), dt, t)
+                 for i, (name, _, dt, t) in enumerate(rows)]
+    if any(set(sc.at) != set(at) for sc in scheds[1:]):
+        raise ImunavError("run_filter_batch needs the same reading times in every run",
+                          argument="data")
+    gate = None if gate is None or gate >= 1 else gate
+    readings = {name: 0 for name in meas}
+    rejected = {name: np.zeros(R, dtype=int) for name in meas}
+
+    # ---------------------------------------------------------------- the loop
+    m_cov = max(1, int(round(covariance_step / h)))
+    m_cov = max(algo.align, m_cov // algo.align * algo.align)
+    updates = sorted(k for k in at if k > 0)
+    if not updates or updates[-1] != N:
+        updates.append(N)
+    before, after = algo.context
+    own = 1 if kind == "rates" else 0
+    q_nodes = np.empty((N + 1, R, 4))
+    v_nodes = np.empty((N + 1, R, 3))
+    p_nodes = np.empty((N + 1, R, 3))
+    q_nodes[0], v_nodes[0], p_nodes[0] = q0, v0, p0
+    s_hat = np.zeros((R, n - NAV))
+    P = np.repeat(system.P0[None], R, axis=0)
+    ep_idx, ep_P = [0], [P[:, :NAV, :NAV].copy()]
+
+    def readings_at(k, P, s_hat):
+        x, P = _updates_batch(at[k], k, q_nodes, v_nodes, p_nodes, gyro_raw, accel_raw, s_hat,
+                              system, meas, P, gate, readings, rejected)
+        q_nodes[k], v_nodes[k], p_nodes[k] = _inject(q_nodes[k], v_nodes[k], p_nodes[k],
+                                                     x[:, :NAV])
+        return P, s_hat + x[:, NAV:]
+
+    if 0 in at:
+        P, s_hat = readings_at(0, P, s_hat)
+        ep_P[0] = P[:, :NAV, :NAV].copy()
+    a = 0
+    comp_sl = [(system.layout[s.name], s.states) for s in system.sources]
+    for b in updates:
+        w0, w1 = max(0, a - before), min(M, b + own + after)
+        W = w1 - w0
+        tw = t_nodes[w0:w1] + (h / 2 if kind == "increments" else 0.0)
+        decay = system.decay(tw - t_nodes[a])                      # (W, n − 9)
+        gw, aw = gyro_raw[w0:w1].copy(), accel_raw[w0:w1].copy()
+        for sl, st in comp_sl:
+            cols = slice(sl.start - NAV, sl.stop - NAV)
+            s_loc = decay[:, None, cols] * s_hat[None, :, cols]      # (W, R, k)
+            u = gyro_raw[w0:w1] if st.triad == "gyro" else accel_raw[w0:w1]
+            Mx = st.input_matrix(u.reshape(-1, 3), accel_raw[w0:w1].reshape(-1, 3))
+            corr = np.einsum("nik,nk->ni", Mx, s_loc.reshape(W * R, -1)).reshape(W, R, 3)
+            if st.triad == "gyro":
+                gw -= corr
+            else:
+                aw -= corr
+        scale = h if kind == "increments" else 1.0
+        with np.errstate(all="ignore"):
+            q, v, p = algo.func(gw * scale, aw * scale, h, q_nodes[a], v_nodes[a], p_nodes[a], g,
+                                a - w0, b - a)
+        if not (np.isfinite(q[-1]).all() and np.isfinite(v[-1]).all()
+                and np.isfinite(p[-1]).all()):
+            raise ImunavError(f"navigation became non-finite between t = {t_nodes[a]:.9g} and "
+                              f"{t_nodes[b]:.9g} s: the signals are too large to integrate")
+        q_nodes[a + 1:b + 1], v_nodes[a + 1:b + 1], p_nodes[a + 1:b + 1] = q[1:], v[1:], p[1:]
+        bounds = list(range(a, b, m_cov)) + [b]
+        traj, lens = _linearisation_batch(bounds, q_nodes, v_nodes, gw, aw, a - w0, kind, h, g)
+        for lo, hi, L in _groups(lens):
+            Phi, Qd = system.discretise(traj.piece(lo * R, hi * R), L * h)
+            for i in range(hi - lo):
+                P = _predict_batch(P, Phi[i * R:(i + 1) * R], Qd[i * R:(i + 1) * R])
+                ep_idx.append(bounds[lo + i + 1])
+                ep_P.append(P[:, :NAV, :NAV].copy())
+        s_hat = s_hat * system.decay(np.array([t_nodes[b] - t_nodes[a]]))
+        if b in at:
+            P, s_hat = readings_at(b, P, s_hat)
+            ep_P[-1] = P[:, :NAV, :NAV].copy()
+        a = b
+    return BatchResult(t_nodes, q_nodes, v_nodes, p_nodes, np.asarray(ep_idx),
+                       np.asarray(ep_P), readings, rejected, algo.name, list(system.warnings))
+
+
+@lru_cache(maxsize=64)
+def _chi2_quantile(p: float, dof: int) -> float:
+    """The gate's χ² quantile (the same as :func:`~imunav.estimation.kalman.update` uses)."""
+    return float(chi2.ppf(p, dof))
+
+
+def _linearisation_batch(bounds, q_nodes, v_nodes, gw, aw, off, kind, h, g
+                         ) -> tuple[Trajectory, list[int]]:
+    """:func:`_linearisation` of R runs (nodes (N + 1, R, ·), samples (W, R, 3)): the steps of
+    every run side by side, step-major (step i of run r at ``i·R + r``)."""
+    lo = np.asarray(bounds[:-1])
+    hi = np.asarray(bounds[1:])
+    L = hi - lo
+    mid = lo + L // 2
+    qa = q_nodes[mid]                                          # (K, R, 4)
+    odd = L % 2 == 1
+    if odd.any():
+        qb = q_nodes[np.minimum(mid + 1, q_nodes.shape[0] - 1)]
+        sgn = np.sign(np.einsum("krj,krj->kr", qa, qb))[..., None]
+        qm = qa + sgn * qb
+        qa = np.where(odd[:, None, None], qm / np.linalg.norm(qm, axis=-1, keepdims=True), qa)
+    H = (L * h)[:, None, None]
+    f_n = (v_nodes[hi] - v_nodes[lo]) / H - np.array([0.0, 0.0, g])
+    a0 = bounds[0]
+    Lr = L[:, None, None]
+    if kind == "increments":
+        cg = np.concatenate([np.zeros((1,) + gw.shape[1:]), np.cumsum(gw[off:], axis=0)])
+        ca = np.concatenate([np.zeros((1,) + aw.shape[1:]), np.cumsum(aw[off:], axis=0)])
+    else:
+        cg = np.concatenate([np.zeros((1,) + gw.shape[1:]),
+                             np.cumsum((gw[off:-1] + gw[off + 1:]) / 2, axis=0)])
+        ca = np.concatenate([np.zeros((1,) + aw.shape[1:]),
+                             np.cumsum((aw[off:-1] + aw[off + 1:]) / 2, axis=0)])
+    om = (cg[hi - a0] - cg[lo - a0]) / Lr
+    fb = (ca[hi - a0] - ca[lo - a0]) / Lr
+    K, R = qa.shape[:2]
+    traj = Trajectory(h, np.zeros(K * R + 1), quat_to_dcm(qa.reshape(K * R, 4)),
+                      f_n.reshape(K * R, 3), om.reshape(K * R, 3), fb.reshape(K * R, 3))
+    return traj, L.tolist()
+
+
+def _predict_batch(P: FloatArray, Phi: FloatArray, Qd: FloatArray) -> FloatArray:
+    """:meth:`AidedSystem.predict` of R runs at once (P, Φ, Q_d (R, n, n))."""
+    k = NAV
+    if P.shape[-1] == k:
+        out = Phi @ P @ np.swapaxes(Phi, 1, 2) + Qd
+        return 0.5 * (out + np.swapaxes(out, 1, 2))
+    F, G = Phi[:, :k, :k], Phi[:, :k, k:]
+    E = np.diagonal(Phi, axis1=1, axis2=2)[:, k:]
+    Pnn, Pns, Pss = P[:, :k, :k], P[:, :k, k:], P[:, k:, k:]
+    X = F @ Pns + G @ Pss
+    Y = F @ Pnn + G @ np.swapaxes(Pns, 1, 2)
+    out = np.empty_like(P)
+    nn = Y @ np.swapaxes(F, 1, 2) + X @ np.swapaxes(G, 1, 2)
+    out[:, :k, :k] = 0.5 * (nn + np.swapaxes(nn, 1, 2))
+    out[:, :k, k:] = X * E[:, None, :]
+    out[:, k:, :k] = np.swapaxes(out[:, :k, k:], 1, 2)
+    out[:, k:, k:] = Pss * (E[:, :, None] * E[:, None, :])
+    return out + Qd
+
+
+def _updates_batch(readings, k, q_nodes, v_nodes, p_nodes, gyro_raw, accel_raw, s_hat, system,
+                   meas, P, gate, counts, rejected):
+    """:func:`_updates` of R runs: each reading of node ``k`` in turn, every run's own gate."""
+    n = system.n
+    R = P.shape[0]
+    est = np.concatenate([np.zeros((R, NAV)), s_hat], axis=1)
+    i = min(k, gyro_raw.shape[0] - 1)
+    u, f = gyro_raw[i], accel_raw[i]                                 # (R, 3)
+    Mg = system.triad_input("gyro", u, f)                            # (R, 3, n)
+    omega = u - np.einsum("rik,rk->ri", Mg[:, :, NAV:], s_hat)
+    x = np.zeros((R, n))
+    eye = np.eye(n)
+    for name, values, dt, _t in readings:
+        m = meas[name]
+        qk, vk, pk = _inject(q_nodes[k], v_nodes[k], p_nodes[k], x[:, :NAV])
+        z = np.empty((R, m.size))
+        H = np.empty((R, m.size, n))
+        for r in range(R):
+            nav = NavPoint(qk[r], vk[r], pk[r], omega[r], dt,
+                           est[r] + np.concatenate([np.zeros(NAV), x[r, NAV:]]), Mg[r])
+            z[r] = m.residual(m.predict(nav), values[r])
+            H[r] = m.jacobian(nav)
+        Rn = m.noise()
+        Hx = np.einsum("rmn,rn->rm", H, x)
+        nu = (z + Hx) - Hx                     # about the corrected state, as update() does
+        PHt = P @ np.swapaxes(H, 1, 2)                              # (R, n, m)
+        S = H @ PHt + Rn
+        S = 0.5 * (S + np.swapaxes(S, 1, 2))
+        try:
+            np.linalg.cholesky(S)
+        except np.linalg.LinAlgError:
+            raise ImunavError("the innovation covariance H P Hᵀ + R is not positive definite "
+                              "(check R)") from None
+        Sinv_nu = np.linalg.solve(S, nu[..., None])[..., 0]
+        nis = np.einsum("rm,rm->r", nu, Sinv_nu)
+        ok = np.ones(R, dtype=bool) if gate is None else nis <= _chi2_quantile(gate, m.size)
+        K = np.swapaxes(np.linalg.solve(S, np.swapaxes(PHt, 1, 2)), 1, 2)   # P Hᵀ S⁻¹
+        A = eye - K @ H
+        Pn = A @ P @ np.swapaxes(A, 1, 2) + K @ Rn @ np.swapaxes(K, 1, 2)
+        Pn = 0.5 * (Pn + np.swapaxes(Pn, 1, 2))
+        x = np.where(ok[:, None], x + np.einsum("rnm,rm->rn", K, nu), x)
+        P = np.where(ok[:, None, None], Pn, P)
+        counts[name] += 1
+        rejected[name] += ~ok
+    return x, P

@@ -11,8 +11,9 @@ CSV headers (exactly):
 - poses:       ``t,x,y,z,qw,qx,qy,qz``          (s, m, scalar-first q_nb) — a motion from data;
   a truth CSV is accepted as poses too (its velocities are ignored)
 
-Motions: ``MOTION.toml`` (analytic laws), a pose CSV, or a waypoints TOML (``[[waypoint]]``
-tables) — :func:`load_motion` tells them apart by extension and content.
+Motions: ``MOTION.toml`` (analytic laws), a pose CSV, a waypoints TOML (``[[waypoint]]``
+tables), or a catalog TOML (``catalog = "foot_walk"`` and the motion's parameters) —
+:func:`load_motion` tells them apart by extension and content.
 
 Numbers are written as the shortest decimal that reads back as the same double, so every value
 survives a write and a read exactly. Files of any length are read and written in chunks
@@ -25,11 +26,14 @@ May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``, ``imunav.io.
 from __future__ import annotations
 
 import json
+import math
+import numbers
 from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
 
+from imunav.core import units as U
 from imunav.core.constants import G0
 from imunav.core.resources import check_memory
 from imunav.core.rotations import FloatArray
@@ -39,6 +43,7 @@ from imunav.core.validation import (
     check_gravity,
     check_positive,
     read_toml,
+    show,
     unit_quaternions,
 )
 from imunav.io.csvio import (
@@ -51,6 +56,7 @@ from imunav.io.csvio import (
 )
 from imunav.motion.analytic import Motion
 from imunav.motion.base import BaseMotion
+from imunav.motion.catalog import CATALOG
 from imunav.motion.trajectory import ORIENTATIONS, PoseMotion, WaypointMotion
 from imunav.sensors.signals import ImuSignals
 
@@ -129,7 +135,9 @@ def load_motion(path: str | Path, *, smoothing: float | None = None,
     ``*.csv``: poses (header ``t,x,y,z,qw,qx,qy,qz``, or a truth CSV) → a
     :class:`~imunav.motion.trajectory.PoseMotion` (:func:`load_poses`). ``*.toml`` with
     ``[[waypoint]]`` tables → a :class:`~imunav.motion.trajectory.WaypointMotion`
-    (:func:`load_waypoints`); any other TOML → analytic laws (:func:`load_motion_toml`). Times
+    (:func:`load_waypoints`); a TOML with
+    ``catalog = "<name>"`` → that motion of :data:`imunav.motion.catalog.CATALOG`
+    (:func:`load_catalog`); any other TOML → analytic laws (:func:`load_motion_toml`). Times
     of data motions start at the first pose or waypoint (the motion's t = 0 is that time).
 
     Parameters
@@ -166,7 +174,83 @@ def load_motion(path: str | Path, *, smoothing: float | None = None,
     spec = read_toml(path, "motion file")
     if "waypoint" in spec:
         return load_waypoints(path, spec)
+    if "catalog" in spec:
+        return load_catalog(path, spec)
     return load_motion_toml(path)
+
+
+#: Keys of a catalog motion file besides the motion's own parameters.
+CATALOG_TOP = ("catalog", "duration", "g", "name")
+
+
+def load_catalog(path: str | Path, spec: dict | None = None
+                 ) -> tuple[BaseMotion, float, float | None]:
+    """A catalog motion file: ``catalog = "<name>"`` (one of
+    :data:`imunav.motion.catalog.CATALOG`, e.g. ``"foot_walk"``), ``duration`` (s, required),
+    optional ``g`` (m/s²) and ``name``, and any of the motion's own parameters (numbers in
+    their units; an angle in radians or as a string with its unit, ``"90 deg"``).
+
+    Parameters
+    ----------
+    path : str or Path
+    spec : dict, optional
+        The file's table, if already read.
+
+    Returns
+    -------
+    tuple
+        ``(motion, duration, g or None)``.
+
+    Raises
+    ------
+    ImunavError
+        For an unknown catalog name or key, a missing or non-positive duration, a value of the
+        wrong type, or one the motion refuses (each message starts with the file name).
+    """
+    path = Path(path)
+    spec = read_toml(path, "motion file") if spec is None else spec
+    name = spec["catalog"]
+    if not isinstance(name, str) or name not in CATALOG:
+        raise ImunavError(f"{path}: catalog must be one of {', '.join(CATALOG)}, got {show(name)}")
+    factory, params = CATALOG[name]
+    bad = sorted(set(spec) - set(CATALOG_TOP) - set(params))
+    if bad:
+        allowed = ", ".join(list(CATALOG_TOP) + list(params))
+        raise ImunavError(f"{path}: unknown key(s) {', '.join(bad)} for catalog = {name!r}; "
+                          f"expected {allowed}")
+    if "duration" not in spec:
+        raise ImunavError(f"{path}: top-level 'duration' (s) is required")
+    duration = check_positive(spec["duration"], f"{path}: duration")
+    g = spec.get("g")
+    if g is not None:
+        g = check_positive(g, f"{path}: g")
+    kwargs = {key: _catalog_value(path, key, spec[key], unit)
+              for key, unit in params.items() if key in spec}
+    try:
+        motion = factory(duration=duration, **kwargs)
+    except ImunavError as exc:
+        raise ImunavError(f"{path}: {exc}") from None
+    label = spec.get("name", path.stem)
+    if not isinstance(label, str):
+        raise ImunavError(f"{path}: name must be a string, got {show(label)}")
+    motion.name = label
+    return motion, duration, g
+
+
+def _catalog_value(path: Path, key: str, value, unit: str):
+    """One parameter of a catalog motion file in the factory's units."""
+    if unit == "count":
+        if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+            raise ImunavError(f"{path}: {key} must be a whole number, got {show(value)}")
+        return int(value)
+    if unit == "angle" and isinstance(value, str):
+        text = value.strip()
+        sign = -1.0 if text.startswith("-") else 1.0
+        return sign * U.convert(text.lstrip("+-"), U.ANGLE, f"{path}: {key}", "angle")
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value):
+        what = "radians, or a string with its unit (\"90 deg\")" if unit == "angle" else unit
+        raise ImunavError(f"{path}: {key} must be a finite number ({what}), got {show(value)}")
+    return float(value)
 
 
 def load_poses(path: str | Path, *, smoothing: float | None = None,

@@ -10,6 +10,11 @@
 
 - :func:`figure_eight` — the README/quickstart example: a climbing horizontal figure-eight,
   turning about all three axes.
+- :func:`~imunav.motion.foot.foot_walk` — a foot-mounted IMU on a walk: strides with exact
+  stance phases (:mod:`imunav.motion.foot`).
+
+:data:`CATALOG` names every one of them with its parameters and their units: what a
+``MOTION.toml`` with ``catalog = "<name>"`` may set (:func:`imunav.io.files.load_motion`).
 
 Attitude laws are SymPy quaternions; ``ω_b = vec(2 q* ⊗ q̇)`` is derived symbolically, so the
 truth is exact to rounding.
@@ -24,6 +29,7 @@ import sympy as sp
 
 from imunav.motion.analytic import Motion
 from imunav.motion.base import BaseMotion
+from imunav.motion.foot import foot_walk
 from imunav.motion.laws import T
 from imunav.motion.quaternion_law import FourRotationMotion, QuaternionLawMotion
 
@@ -97,3 +103,22 @@ def figure_eight(duration: float = 20.0) -> Motion:
 #: name → factory of the benchmark motions.
 BENCHMARKS = {"coning": coning, "spinning_cone": spinning_cone, "sculling": sculling,
               "four_rotation": four_rotation, "stationary": stationary}
+
+
+#: name → ``(factory, {parameter: unit})`` of every catalog motion, for ``catalog = "<name>"``
+#: in a ``MOTION.toml``: the factory takes ``duration`` and these keyword parameters. Units:
+#: ``"count"`` a whole number; ``"angle"`` radians, or a string with its unit (``"90 deg"``);
+#: any other a plain number in that unit.
+CATALOG: dict[str, tuple] = {
+    "coning": (coning, {"half_angle_deg": "deg", "freq_hz": "Hz"}),
+    "spinning_cone": (spinning_cone, {"half_angle_deg": "deg", "freq_hz": "Hz", "spin_hz": "Hz"}),
+    "sculling": (sculling, {"angle_deg": "deg", "accel": "m/s²", "freq_hz": "Hz"}),
+    "four_rotation": (four_rotation, {}),
+    "stationary": (stationary, {}),
+    "figure_eight": (figure_eight, {}),
+    "foot_walk": (foot_walk, {"stride_length": "m", "cadence": "steps/min",
+                              "stance_fraction": "fraction", "rest": "s", "turn_every": "count",
+                              "turn_angle": "angle", "turn_strides": "count",
+                              "toe_off_pitch": "angle", "heel_strike_pitch": "angle",
+                              "heading": "angle"}),
+}

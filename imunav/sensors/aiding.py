@@ -6,7 +6,10 @@ with its unit, ``"2 deg"``)::
 
     [gnss]      rate (Hz), position_sigma (m, white), velocity_sigma (m/s, white; no velocity
                 without it), correlated_sigma (m) and correlation_time (s) of a first-order
-                Gauss–Markov position error, lever_arm (m, body frame, default [0, 0, 0]),
+                Gauss–Markov position error, correlated_model = "state" | "white" (how the
+                filter treats it: three states of its own, the default, or as white noise of
+                variance position_sigma² + correlated_sigma², a common simplification whose
+                cost imunav assess measures), lever_arm (m, body frame, default [0, 0, 0]),
                 outages = [[t0, t1], …] (s: no fix with t0 ≤ t ≤ t1)
     [baro]      rate (Hz), sigma (m, white), bias_drift (m/√s: a random walk from 0)
     [heading]   rate (Hz), sigma (rad): a magnetometer-like yaw reference
@@ -132,6 +135,10 @@ class GnssConfig:
         The antenna in the body frame (m).
     outages : tuple of (float, float)
         Intervals (s) without fixes, ends included.
+    correlated_model : {"state", "white"}
+        How the filter treats the correlated error: as three Gauss–Markov states of its own, or
+        as white noise (its variance added to ``position_sigma²``) — the simulation draws it
+        correlated either way.
     """
 
     rate: float
@@ -141,9 +148,13 @@ class GnssConfig:
     correlation_time: float | None = None
     lever_arm: tuple[float, float, float] = (0.0, 0.0, 0.0)
     outages: tuple[tuple[float, float], ...] = ()
+    correlated_model: str = "state"
 
     KEYS = ("rate", "position_sigma", "velocity_sigma", "correlated_sigma", "correlation_time",
-            "lever_arm", "outages")
+            "lever_arm", "outages", "correlated_model")
+
+    #: How the filter may treat the correlated error.
+    CORRELATED_MODELS = ("state", "white")
 
     @classmethod
     def from_dict(cls, d: dict) -> GnssConfig:
@@ -162,7 +173,8 @@ class GnssConfig:
         ImunavError
             For an unknown key, a missing ``rate`` or ``position_sigma``, a non-positive sigma
             or rate, a correlated error without its correlation time, a lever arm that is not
-            3 numbers, or an outage that is not ``[t0, t1]`` with ``0 ≤ t0 < t1``.
+            3 numbers, an outage that is not ``[t0, t1]`` with ``0 ≤ t0 < t1``, or a
+            ``correlated_model`` other than ``"state"`` or ``"white"``.
         """
         d = _keys(d, "gnss", cls.KEYS)
         rate = _number(d, "rate", "gnss", "Hz", required=True)
@@ -190,8 +202,12 @@ class GnssConfig:
                 raise ImunavError(f"[gnss] outages[{i}] must be [t0, t1] with 0 ≤ t0 < t1 (s), "
                                   f"got {show(o)}")
             out.append((float(o[0]), float(o[1])))
+        model = d.get("correlated_model", "state")
+        if model not in cls.CORRELATED_MODELS:
+            raise ImunavError(f"[gnss] correlated_model must be \"state\" or \"white\", got "
+                              f"{show(model)}")
         return cls(rate, ps, vs, cs, tau if cs > 0 else None,
-                   tuple(float(x) for x in lever), tuple(out))
+                   tuple(float(x) for x in lever), tuple(out), model)
 
     def in_outage(self, t: FloatArray) -> np.ndarray:
         """Whether each time lies in an outage.
