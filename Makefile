@@ -36,7 +36,7 @@ unit: $(STAMP)
 # The stored notebooks re-run under nbval with the inline backend (figures drawn and checked by
 # the figure check, not compared): all of them, or NB="01 02".
 nbval: $(STAMP)
-	env -u MPLBACKEND $(BIN)/python -m pytest -q --nbval --nbval-current-env \
+	env -u MPLBACKEND $(BIN)/python -m pytest -q -n $(JOBS) --dist loadfile --nbval --nbval-current-env \
 	  $(if $(strip $(NB)),$(foreach n,$(NB),$(wildcard notebooks/$(n)*.ipynb)),notebooks)
 
 # Sync notebooks/src/*.py into the paired notebooks/*.ipynb (jupytext) and execute them in place

@@ -106,5 +106,7 @@ def test_wgs84_frame_mismatches_exit_2(sim, tmp_path, capsys):
     _one_line_exit_2(capsys, args, "(a flat file: the filter's frame is wgs84)")
     (flat / "gnss.csv").write_text("t,lat,lon,alt,vn,ve,vd\n1,95,0,0,0,0,0\n")
     _one_line_exit_2(capsys, args, "is outside ±90°")
+    (flat / "gnss.csv").write_text("t,lat,lon,alt,vn,ve,vd\n1,45,400,0,0,0,0\n")
+    _one_line_exit_2(capsys, args, "lon = 400° is outside ±180°")
     _one_line_exit_2(capsys, base + ["--earth", "wgs84", "--g", "9.8"],
                      "--g belongs to the flat frame")

@@ -293,7 +293,7 @@ def test_format_design_hand_written():
         "    tactical   SUITABLE         0.0123 m",
         "    MPU-6050   NOT SUITABLE   1.23e+03 m (outside the linear model: check with Monte "
         "Carlo)",
-        "  Warning: filter lag 3 m.",
+        "  warning: filter lag 3 m.",
     ]
     r.update(common_scale=1.0, min_rate_hz=None, terms={}, warnings=[])
     lines = format_design(r).split("\n")

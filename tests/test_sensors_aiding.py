@@ -209,3 +209,22 @@ def test_shoe_statistic_is_the_formula_and_detects_rest():
     assert np.median(T[:190]) < 20 and T[210:].min() > 1e5
     st = shoe_intervals(np.arange(n) / 100.0, gyro, acc, g=g)
     assert st[0, 0] == 0.0 and st[-1, 1] < 2.01
+
+
+def test_outages_overlapping_or_outside_the_record_are_refused():
+    """An overlap, or an outage wholly after the record, used to be accepted silently (an
+    outage at 400-500 s on a 300 s drive left the verdict 'SUITABLE' and the report silent)."""
+    import pytest as _pytest
+
+    from imunav.core.validation import ImunavError
+    from imunav.sensors.aiding import AidingConfig
+
+    with _pytest.raises(ImunavError, match=r"outages\[1\].*without overlaps"):
+        AidingConfig.from_dict({"gnss": {"rate": 1, "position_sigma": 1.0,
+                                         "outages": [[20, 35], [30, 40]]}})
+    cfg = AidingConfig.from_dict({"gnss": {"rate": 1, "position_sigma": 1.0,
+                                           "outages": [[400, 500]]}})
+    with _pytest.raises(ImunavError, match=r"outages\[0\] = \[400, 500\] s lies outside"):
+        cfg.gnss.check_within(0.0, 300.0)
+    AidingConfig.from_dict({"gnss": {"rate": 1, "position_sigma": 1.0,
+                                     "outages": [[250, 400]]}}).gnss.check_within(0.0, 300.0)

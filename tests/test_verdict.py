@@ -89,7 +89,7 @@ def test_short_motions_skip_rates_with_too_few_samples(monkeypatch):
 def test_saturated_runs_counted_and_warned():
     r = A.verdict(_mc(RAMP[:4], saturated=[0, 3, 0, 1]), 100.0, {}, None)
     assert r["saturated_runs"] == 2
-    assert "Warning: 2 runs hit the sensor range" in A.format_verdict(r)
+    assert "warning: 2 runs hit the sensor range" in A.format_verdict(r)
 
 
 def test_assess_is_the_verdict_of_its_monte_carlo(monkeypatch):
@@ -177,8 +177,8 @@ def test_format_verdict_hand_written():
         "  NOT SUITABLE: 50.0 % of runs stay within 2.5 m over the whole motion (needed: 95 %).",
         "  The 95th percentile crosses 2.5 m at t = 12.35 s (final 1.23 m).",
         "  Sampling alone stays below 0.1 × the tolerance from no tested rate (≤ 5 kHz).",
-        "  Warning: 4 runs hit the sensor range (clipped).",
-        "  Warning: filter lag 3 m.",
+        "  warning: 4 runs hit the sensor range (clipped).",
+        "  warning: filter lag 3 m.",
     ]
     # without a "suitable" key the fraction decides (95 % needed)
     r = _record(fraction_within_tolerance=0.949)
@@ -413,7 +413,7 @@ def test_few_runs_give_a_verdict_with_its_caveat():
     assert r["fraction_ci95"] == pytest.approx([ci.low, ci.high], rel=1e-9)
     assert r["warnings"][0].startswith("1 runs cannot support a 95 % verdict: the fraction of "
                                        "runs within 100 m is between 2.5 % and 100.0 %")
-    assert "  Warning: 1 runs cannot support a 95 % verdict" in A.format_verdict(r)
+    assert "  warning: 1 runs cannot support a 95 % verdict" in A.format_verdict(r)
     # 72 runs all within clear 95 %; 1000 runs at 92.4 % are clearly below: no caveat
     for inside, runs in ((72, 72), (924, 1000)):
         ci = binomtest(inside, runs).proportion_ci(0.95, method="exact")

@@ -578,7 +578,7 @@ def format_verdict(r: dict) -> str:
     lines.append(f"  Sampling alone stays below {SAMPLING_SHARE:g} × the tolerance from "
                  + (f"{mr:g} Hz." if mr else "no tested rate (≤ 5 kHz)."))
     if r["saturated_runs"]:
-        lines.append(f"  Warning: {r['saturated_runs']} runs hit the sensor range (clipped).")
+        lines.append(f"  warning: {r['saturated_runs']} runs hit the sensor range (clipped).")
     for w in r.get("warnings", []):
-        lines.append(f"  Warning: {w}.")
+        lines.append(f"  warning: {w}.")
     return "\n".join(lines)

@@ -183,5 +183,5 @@ def format_design(r: dict) -> str:
         note = " (outside the linear model: check with Monte Carlo)" if p["warnings"] else ""
         lines.append(f"    {p['name']:10s} {flag} {p['final_p95_position_m']:10.3g} m{note}")
     for w in r["warnings"]:
-        lines.append(f"  Warning: {w}.")
+        lines.append(f"  warning: {w}.")
     return "\n".join(lines)

@@ -414,6 +414,8 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
     """
     tolerance = check_positive(tolerance, "tolerance")
     duration = _span(motion, rate, duration)
+    if aiding.gnss is not None:
+        aiding.gnss.check_within(0.0, duration)
     at = aided_covariance(motion, imu, aiding, rate, duration, kind=kind,
                           covariance_step=covariance_step, algorithm=algorithm, g=g,
                           terms=budget)
@@ -505,7 +507,7 @@ def format_aided_verdict(r: dict) -> str:
         for k, v in list(r["error_budget"].items())[:8]:
             lines.append(f"    {k:28s} {v:10.3g} m")
     for w in r["warnings"]:
-        lines.append(f"  Warning: {w}.")
+        lines.append(f"  warning: {w}.")
     return "\n".join(lines)
 
 
@@ -766,6 +768,8 @@ def design_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
     if find not in (None, "outage"):
         raise ImunavError(f"find must be 'outage', got {find!r}", argument="find")
     duration = _span(motion, rate, duration)
+    if aiding.gnss is not None:
+        aiding.gnss.check_within(0.0, duration)
     at = aided_covariance(motion, imu, aiding, rate, duration, kind=kind,
                           covariance_step=covariance_step, algorithm=algorithm, g=g,
                           terms=True)
@@ -840,7 +844,7 @@ def format_outage_design(r: dict) -> str:
             for k, v in list(budget.items())[:8]:
                 lines.append(f"    {k:28s} {v:10.3g} m")
     for w in r["warnings"]:
-        lines.append(f"  Warning: {w}.")
+        lines.append(f"  warning: {w}.")
     return "\n".join(lines)
 
 

@@ -740,6 +740,8 @@ def run_filter(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike, p0: np
         raise ImunavError(f"{kind} signals need at least {algo.min_samples} samples")
     t_nodes = signals.state_times()
     t0 = float(t_nodes[0])
+    if aiding.gnss is not None:
+        aiding.gnss.check_within(t0, float(t_nodes[-1]))
     gyro_raw = signals.gyro / h if kind == "increments" else signals.gyro     # rate units
     accel_raw = signals.accel / h if kind == "increments" else signals.accel
     imu = imu or ImuModel(name="ideal")

@@ -96,7 +96,7 @@ def read_aiding(folder: str | Path, sensors, frame: str = "flat") -> AidingData:
     ImunavError
         For a missing folder or file, a wrong header, a value that is not a finite number,
         times not strictly increasing, stance intervals with ``t1 < t0`` or overlapping, or
-        (wgs84) a latitude outside ±90°.
+        (wgs84) a latitude outside ±90° or a longitude outside ±180°.
     """
     if frame not in GNSS_HEADERS:
         raise ImunavError(f"frame must be one of {tuple(GNSS_HEADERS)}, got {frame!r}",
@@ -150,6 +150,11 @@ def read_aiding(folder: str | Path, sensors, frame: str = "flat") -> AidingData:
                     i = int(np.argmax(bad))
                     raise ImunavError(f"{path}, line {_line_of(path, i)}: lat = "
                                       f"{values[i, 0]:.9g}° is outside ±90°")
+                bad = np.abs(values[:, 1]) > 180.0
+                if bad.any():
+                    i = int(np.argmax(bad))
+                    raise ImunavError(f"{path}, line {_line_of(path, i)}: lon = "
+                                      f"{values[i, 1]:.9g}° is outside ±180°")
                 values = values.copy()
                 values[:, :2] = np.radians(values[:, :2])
             setattr(out, name, Readings(data[:, 0], values))

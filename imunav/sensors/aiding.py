@@ -201,6 +201,10 @@ class GnssConfig:
                             and math.isfinite(x) for x in o) or not 0 <= o[0] < o[1]):
                 raise ImunavError(f"[gnss] outages[{i}] must be [t0, t1] with 0 ≤ t0 < t1 (s), "
                                   f"got {show(o)}")
+            if out and o[0] <= out[-1][1]:
+                raise ImunavError(f"[gnss] outages[{i}] = {show(o)} must start after "
+                                  f"outages[{i - 1}] ends ({out[-1][1]:g} s): list them in "
+                                  "time order, without overlaps")
             out.append((float(o[0]), float(o[1])))
         model = d.get("correlated_model", "state")
         if model not in cls.CORRELATED_MODELS:
@@ -208,6 +212,27 @@ class GnssConfig:
                               f"{show(model)}")
         return cls(rate, ps, vs, cs, tau if cs > 0 else None,
                    tuple(float(x) for x in lever), tuple(out), model)
+
+    def check_within(self, start: float, end: float) -> None:
+        """Refuse an outage that lies wholly outside the record ``[start, end]`` (s).
+
+        An outage running past the end is kept (GNSS lost until the end); one that starts at or
+        after the end, or ends before the start, would silently change nothing.
+
+        Parameters
+        ----------
+        start, end : float
+            The record's first and last time (s).
+
+        Raises
+        ------
+        ImunavError
+            Naming ``[gnss] outages[i]`` and the record's span.
+        """
+        for i, (t0, t1) in enumerate(self.outages):
+            if t0 >= end or t1 <= start:
+                raise ImunavError(f"[gnss] outages[{i}] = [{t0:g}, {t1:g}] s lies outside the "
+                                  f"record ({start:g} … {end:g} s)")
 
     def in_outage(self, t: FloatArray) -> np.ndarray:
         """Whether each time lies in an outage.
@@ -626,6 +651,7 @@ def simulate_aiding(motion: BaseMotion, config: AidingConfig, duration: float, *
     out = AidingData()
     if config.gnss is not None:
         c = config.gnss
+        c.check_within(t0, t0 + duration)
         t = _times(c.rate, duration, t0)
         q = motion.attitude(t)
         lever = np.asarray(c.lever_arm)
