@@ -114,6 +114,9 @@ class Runner(NotebookClient):
     execute_cell = run_sync(async_execute_cell)
 
 
+KERNELSPEC = {"display_name": "Python 3", "language": "python", "name": "python3"}
+
+
 def _install_check(client: Runner, mode: str) -> None:
     reply = client.wait_for_reply(client.kc.execute(KERNEL_SETUP.format(mode=mode),
                                                     store_history=False))
@@ -136,6 +139,12 @@ def run_one(path: Path, timeout: float, sync: bool = True, write: bool = True,
         with client.setup_kernel():
             client.slice_waits()
             _install_check(client, check)
+            # what nbclient's own execute() records and this cell-by-cell loop bypasses: the
+            # book (myst-nb) needs language_info to highlight the code cells
+            info = client.wait_for_reply(client.kc.kernel_info())
+            if info is not None and "language_info" in info["content"]:
+                nb.metadata["language_info"] = info["content"]["language_info"]
+            nb.metadata.setdefault("kernelspec", dict(KERNELSPEC))
             for i, cell in enumerate(nb.cells):
                 client.execute_cell(cell, i)
             client.set_widgets_metadata()
