@@ -233,7 +233,12 @@ def _shutdown_kernels(page) -> None:
 
 
 def run_lab(browser, only: str | None) -> None:
-    work = Path(tempfile.mkdtemp(prefix="imunav-lab-"))
+    # notebooks/ beside a copy of examples/, as in the repository: notebook 10 reads
+    # ../examples/drive.toml, as a reader running it from notebooks/ would
+    top = Path(tempfile.mkdtemp(prefix="imunav-lab-"))
+    work = top / "notebooks"
+    work.mkdir()
+    shutil.copytree(ROOT / "examples", top / "examples")
     for nb in NOTEBOOKS:   # copies without outputs: every figure counted is drawn by this run
         data = json.loads(nb.read_text())
         for c in data["cells"]:
@@ -342,7 +347,7 @@ def run_lab(browser, only: str | None) -> None:
                 context.close()
     finally:
         stop(lab)
-        shutil.rmtree(work, ignore_errors=True)
+        shutil.rmtree(top, ignore_errors=True)
 
 
 # ------------------------------------------------------------------------------ book
