@@ -172,6 +172,14 @@ def _wait_changed(area, before: list[str], timeout: float) -> bool:
     return False
 
 
+def _run_manual(area) -> None:
+    """An ``interact_manual`` area redraws only when its button is pressed: press it, as a
+    reader would after moving a control (a plain ``interact`` has no such button)."""
+    button = area.locator("button", has_text="Run Interact")
+    if button.count():
+        button.first.click()
+
+
 def _check_widgets(page, name: str) -> None:
     areas = page.locator(".jp-OutputArea-output .widget-interact, "
                          ".jp-OutputArea-output > .jupyter-widgets.widget-vbox")
@@ -199,6 +207,7 @@ def _check_widgets(page, name: str) -> None:
                 page.mouse.move(x0 + dx * k / 10, y0)
                 time.sleep(0.05)
             page.mouse.up()
+            _run_manual(area)
             ok = _wait_changed(area, before, WIDGET_TIMEOUT_S)
             checked.append(f"slider drag {'redrew' if ok else 'did NOT change'} the figure")
             if not ok:
@@ -212,6 +221,7 @@ def _check_widgets(page, name: str) -> None:
             current = sel.evaluate("s => s.value")
             target = next(o for o in options if o != current)
             sel.select_option(target)
+            _run_manual(area)
             ok = _wait_changed(area, before, WIDGET_TIMEOUT_S)
             checked.append(f"dropdown → {sel.evaluate('s => s.options[s.selectedIndex].text')!r} "
                            f"{'redrew' if ok else 'did NOT change'} the figure")
