@@ -192,3 +192,26 @@ def test_limit_changes_no_result():
     with imunav.blas_threads(None):
         default = simulate_imu(m, 200.0, output="increments")
     assert np.array_equal(one.gyro, default.gyro) and np.array_equal(one.accel, default.accel)
+
+
+def test_earth_navigation_runs_its_gravity_products_on_one_blas_thread(two_threads, monkeypatch):
+    """The rotating-Earth path multiplies the gravity quadrature through BLAS ((2, 8) weights
+    times the node rows): one thread inside, as the flat kernels (with a busy core a
+    two-thread product waited for its descheduled thread)."""
+    from imunav import navigate
+    from imunav.motion import EarthMotion
+    from imunav.strapdown.earth import EarthIntegrator
+
+    seen = []
+    real = EarthIntegrator._integrals
+
+    def recording(self, *args, **kwargs):
+        seen.append(blas_counts())
+        return real(self, *args, **kwargs)
+
+    monkeypatch.setattr(EarthIntegrator, "_integrals", recording)
+    m = EarthMotion(Motion(x="2*t", yaw="0.1*t", duration=20.0), (0.8, 0.2, 100.0))
+    sig = simulate_imu(m, 50.0, output="increments")
+    navigate(sig, *m.states([0.0]).initial(), earth="wgs84")
+    assert seen and all(c == [1] * len(c) for c in seen)
+    assert blas_counts() == two_threads

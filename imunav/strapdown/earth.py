@@ -50,6 +50,7 @@ from functools import cache
 import numpy as np
 
 from imunav.core.kernels import FloatArray, cross, quat_conj, quat_mul, quat_rotate
+from imunav.core.threads import limit_blas
 from imunav.core.validation import ImunavError
 from imunav.earth import (
     E2,
@@ -264,6 +265,7 @@ class EarthIntegrator:
         return V, np.cumsum(Vp, axis=0)
 
     # ------------------------------------------------------------------------------ advance
+    @limit_blas
     def advance(self, q_ib: FloatArray, vT: FloatArray, pT: FloatArray
                 ) -> tuple[FloatArray, FloatArray, FloatArray]:
         """Integrate ``n`` more steps.
