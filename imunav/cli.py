@@ -35,7 +35,7 @@ from imunav.earth import check_origin
 from imunav.estimation.alignment import ALIGNMENTS, WINDOW
 from imunav.estimation.filters import SD_COLUMNS, run_filter
 from imunav.io import realdata
-from imunav.io.aiding import AIDING_FILES, check_span, read_aiding, write_aiding
+from imunav.io.aiding import AIDING_FILES, check_span, read_aiding, unused_files, write_aiding
 from imunav.io.csvio import CsvWriter
 from imunav.io.files import (
     ROW_BYTES,
@@ -94,7 +94,8 @@ def _nonnegative(name):
         except ValueError:
             v = float("nan")
         if not (np.isfinite(v) and v >= 0):
-            raise argparse.ArgumentTypeError(f"{name} must be a number ≥ 0, got {text!r}")
+            raise argparse.ArgumentTypeError(f"{name} must be a non-negative number, got "
+                                             f"{text!r}")
         return v
 
     return conv
@@ -472,6 +473,8 @@ def cmd_filter(args) -> int:
         raise ImunavError(f"--initial {args.initial} starts at t = {init.t[0]:.9g} s but the "
                           f"signals start at t = {t_start:.9g} s")
     data = read_aiding(args.measurements, aiding.sensors, args.earth)
+    for msg in unused_files(args.measurements, aiding.sensors):
+        print(f"imunav: warning: {msg} (--aiding {args.aiding})", file=sys.stderr)
     t_end = float(sig.state_times()[-1])
     check_span(args.measurements, data, t_start, t_end)
     if aiding.zupt and aiding.zupt.detector == "truth" and data.zupt is None:
