@@ -189,3 +189,43 @@ def test_measurements_given_a_file_says_a_folder_is_expected(sim, tmp_path, caps
                  "--out", tmp_path / "n.csv")
     assert f"--measurements {sim / 'meas' / 'gnss.csv'} is a file" in msg
     assert "folder" in msg and "not found" not in msg
+
+
+# ------------------------------------------------------------- round 2's second attack
+
+def test_a_file_shoe_does_not_read_is_named_and_warnings_do_not_precede_an_error(sim, tmp_path,
+                                                                                 capsys):
+    meas = tmp_path / "meas"
+    meas.mkdir()
+    for f in ("gnss.csv", "baro.csv"):
+        (meas / f).write_bytes((sim / "meas" / f).read_bytes())
+    (meas / "zupt.csv").write_text("t0,t1\n1,2\n")
+    a = tmp_path / "a.toml"
+    a.write_text("[gnss]\nrate = 1\nposition_sigma = 1.5\nvelocity_sigma = 0.1\n"
+                 "[zupt]\nsigma = 0.01\ndetector = \"shoe\"\n")
+    code, _, err = _run(capsys, "filter", sim / "imu.csv", "--initial", sim / "truth.csv",
+                        "--aiding", a, "--measurements", meas, "--out", tmp_path / "n.csv")
+    assert code == 0
+    warned = [ln for ln in err.splitlines() if "warning:" in ln]
+    assert any(str(meas / "zupt.csv") in ln and "shoe" in ln for ln in warned), err
+    assert any(str(meas / "baro.csv") in ln and "[baro]" in ln for ln in warned), err
+    # a refused run prints its one error line only, not the warnings before it
+    (meas / "gnss.csv").write_text("t,x,y,z\n")
+    msg = _error(capsys, "filter", sim / "imu.csv", "--initial", sim / "truth.csv",
+                 "--aiding", a, "--measurements", meas, "--out", tmp_path / "n.csv")
+    assert f"{meas / 'gnss.csv'} has no velocity columns" in msg and "velocity_sigma" in msg
+
+
+@pytest.mark.parametrize("toml, words", [
+    ("[initial]\nposition_sigma = 1\n", "has no aiding sensor"),
+    ("", "has no aiding sensor"),
+    ("[gnss]\nrate = 1\nposition_sigma = 1\noutages = [5, 8]\n",
+     "[gnss] outages must be a list of [t0, t1] (s), got [5, 8]: write [[5, 8]]"),
+])
+def test_simulate_refuses_an_aiding_file_it_cannot_use(sim, tmp_path, capsys, toml, words):
+    a = tmp_path / "a.toml"
+    a.write_text(toml)
+    msg = _error(capsys, "simulate", sim / "drive.toml", "--rate", 50, "--out",
+                 tmp_path / "s.csv", "--aiding", a, "--aiding-out", tmp_path / "m")
+    assert words in msg
+    assert not (tmp_path / "m").exists()

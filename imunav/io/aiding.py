@@ -166,15 +166,18 @@ def read_aiding(folder: str | Path, sensors, frame: str = "flat") -> AidingData:
     return out
 
 
-def unused_files(folder: str | Path, sensors) -> list[str]:
-    """The measurement files in ``folder`` that no aid of ``sensors`` reads (their table is
-    missing from the aiding file), as warnings: such a file would be ignored silently.
+def unused_files(folder: str | Path, sensors, detector: str | None = None) -> list[str]:
+    """The measurement files in ``folder`` that no aid of ``sensors`` reads, as warnings: such
+    a file would be ignored silently.
 
     Parameters
     ----------
     folder : str or Path
     sensors : iterable of str
         The aids of the aiding file (``AidingConfig.sensors``).
+    detector : {"truth", "shoe"}, optional
+        The ``[zupt]`` detector: ``"shoe"`` finds the stance in the IMU data and reads no
+        ``zupt.csv``.
 
     Returns
     -------
@@ -183,9 +186,13 @@ def unused_files(folder: str | Path, sensors) -> list[str]:
         table"``.
     """
     folder, sensors = Path(folder), set(sensors)
-    return [f"{folder / fname} is not used: the aiding file has no [{name}] table"
-            for name, (fname, _) in AIDING_FILES.items()
-            if name not in sensors and (folder / fname).is_file()]
+    out = [f"{folder / fname} is not used: the aiding file has no [{name}] table"
+           for name, (fname, _) in AIDING_FILES.items()
+           if name not in sensors and (folder / fname).is_file()]
+    if "zupt" in sensors and detector == "shoe" and (folder / "zupt.csv").is_file():
+        out.append(f"{folder / 'zupt.csv'} is not used: [zupt] detector = \"shoe\" finds the "
+                   "stance in the IMU data")
+    return out
 
 
 def check_span(folder: str | Path, data: AidingData, t_start: float, t_end: float) -> None:

@@ -220,6 +220,10 @@ class GnssConfig:
         if not isinstance(outages, list):
             raise ImunavError(f"[gnss] outages must be a list of [t0, t1] (s), got "
                               f"{show(outages)}")
+        if outages and all(isinstance(o, numbers.Real) for o in outages):
+            hint = f": write [{show(outages)}] for one outage" if len(outages) == 2 else ""
+            raise ImunavError(f"[gnss] outages must be a list of [t0, t1] (s), got "
+                              f"{show(outages)}{hint}")
         out = []
         for i, o in enumerate(outages):
             if (not isinstance(o, list) or len(o) != 2 or
