@@ -312,8 +312,8 @@ class AlongTruth:
         if 0 in sched:                   # an update on the initial state: not modelled here
             name, t0 = sched[0][0][:2]
             if name == "zupt":
-                raise ImunavError("[zupt]: the motion stands still at its start (t = 0 s), and "
-                                  "the aided covariance analysis cannot apply a zero-velocity "
+                raise ImunavError(f"[zupt]: the motion stands still at t = {t0:.6g} s, and the "
+                                  "aided covariance analysis cannot apply a zero-velocity "
                                   "update at the very start (node 0) yet: give the motion a "
                                   "moving start, or drop [zupt]", argument="aiding")
             raise ImunavError(f"[{name}]: its first reading (t = {t0:.6g} s) falls on the very "

@@ -2,7 +2,7 @@
 the SHOE zero-velocity detector on IMU data.
 
 An ``AIDING.toml`` has one optional table per aid (every value SI; an angle may also be a string
-with its unit, ``"2 deg"``)::
+with its unit, ``"2 deg"``: rad, mrad or deg — not ``%``, a scale factor's unit)::
 
     [gnss]      rate (Hz), position_sigma (m, white), velocity_sigma (m/s, white; no velocity
                 without it), correlated_sigma (m) and correlation_time (s) of a first-order
@@ -125,7 +125,7 @@ def _angle(text: str, name: str) -> float:
                           f"angle: {', '.join(ANGLE_UNITS)})")
     unit = U.normalise(m.group(2))
     if unit not in ANGLE_UNITS:
-        why = (" (% is for scale factors)" if unit == "%" else "") if unit else ""
+        why = " (% is for scale factors)" if unit == "%" else ""
         got = f"unit {m.group(2)!r} is not an angle unit{why}" if unit else "no unit"
         raise ImunavError(f"{name} = {text!r}: {got}; accepted: {', '.join(ANGLE_UNITS)}")
     return float(m.group(1)) * ANGLE_UNITS[unit]
