@@ -436,7 +436,16 @@ def cmd_simulate(args) -> int:
                                imu_rate=args.rate)
         files = write_aiding(args.aiding_out, data, motion.frame)
         counts = ", ".join(f"{p.name} ({_rows(data, p.stem)} rows)" for p in files)
-        print(f"wrote {counts} to {args.aiding_out}")
+        print(f"wrote {counts} to {args.aiding_out}" if files else
+              f"wrote no aiding file to {args.aiding_out} (the [zupt] detector \"shoe\" finds "
+              "the stance in the IMU data)")
+        for name, (fname, _) in AIDING_FILES.items():      # a filter would read them as new
+            stale = Path(args.aiding_out) / fname
+            if stale.is_file() and stale not in files:
+                print(f"imunav: warning: {stale} is left from before: --aiding {args.aiding} "
+                      f"simulates no [{name}]" + (" readings (detector = \"shoe\")"
+                                                  if name == "zupt" and aiding.zupt else ""),
+                      file=sys.stderr)
     offset = motion.time_offset
     note = (f" (t = 0 is the first pose or waypoint, t = {offset:g} s in {args.motion})"
             if offset else "")

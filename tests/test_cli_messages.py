@@ -229,3 +229,22 @@ def test_simulate_refuses_an_aiding_file_it_cannot_use(sim, tmp_path, capsys, to
                  tmp_path / "s.csv", "--aiding", a, "--aiding-out", tmp_path / "m")
     assert words in msg
     assert not (tmp_path / "m").exists()
+
+
+def test_simulate_names_files_left_from_an_earlier_run(sim, tmp_path, capsys):
+    out = tmp_path / "meas"
+    argv = ["simulate", sim / "drive.toml", "--rate", 50, "--out", tmp_path / "s.csv",
+            "--aiding-out", out, "--aiding"]
+    assert _run(capsys, *argv, sim / "aiding.toml")[0] == 0          # gnss, baro, nhc
+    a = tmp_path / "gnss.toml"
+    a.write_text("[gnss]\nrate = 1\nposition_sigma = 1.5\n")
+    code, _, err = _run(capsys, *argv, a)
+    assert code == 0
+    warned = [ln for ln in err.splitlines() if "warning:" in ln]
+    assert len(warned) == 2, err
+    for fname, table in (("baro.csv", "[baro]"), ("nhc.csv", "[nhc]")):
+        assert any(str(out / fname) in ln and table in ln for ln in warned), err
+    shoe = tmp_path / "shoe.toml"
+    shoe.write_text('[zupt]\nsigma = 0.01\ndetector = "shoe"\n')
+    code, text, _ = _run(capsys, *argv[:-3], "--aiding-out", tmp_path / "none", "--aiding", shoe)
+    assert code == 0 and "wrote no aiding file" in text and "wrote  to" not in text
