@@ -35,7 +35,14 @@ from imunav.earth import check_origin
 from imunav.estimation.alignment import ALIGNMENTS, WINDOW
 from imunav.estimation.filters import SD_COLUMNS, run_filter
 from imunav.io import realdata
-from imunav.io.aiding import AIDING_FILES, check_span, read_aiding, write_aiding
+from imunav.io.aiding import (
+    AIDING_FILES,
+    GNSS_HEADERS,
+    check_span,
+    read_aiding,
+    unused_files,
+    write_aiding,
+)
 from imunav.io.csvio import CsvWriter
 from imunav.io.files import (
     ROW_BYTES,
@@ -94,7 +101,8 @@ def _nonnegative(name):
         except ValueError:
             v = float("nan")
         if not (np.isfinite(v) and v >= 0):
-            raise argparse.ArgumentTypeError(f"{name} must be a number ≥ 0, got {text!r}")
+            raise argparse.ArgumentTypeError(f"{name} must be a non-negative number, got "
+                                             f"{text!r}")
         return v
 
     return conv
@@ -393,6 +401,9 @@ def cmd_simulate(args) -> int:
     if (args.aiding is None) != (args.aiding_out is None):
         raise ImunavError("--aiding and --aiding-out go together")
     aiding = AidingConfig.from_toml(args.aiding) if args.aiding else None
+    if aiding is not None and not aiding.sensors:
+        raise ImunavError(f"--aiding {args.aiding} has no aiding sensor to simulate ([gnss], "
+                          "[baro], [heading], [nhc] or [zupt])")
     inputs = [args.motion, *imu_files] + ([args.aiding] if args.aiding else [])
     out = check_outputs({"--out": args.out, "--truth": args.truth}, inputs)
     if args.aiding_out:
@@ -425,7 +436,16 @@ def cmd_simulate(args) -> int:
                                imu_rate=args.rate)
         files = write_aiding(args.aiding_out, data, motion.frame)
         counts = ", ".join(f"{p.name} ({_rows(data, p.stem)} rows)" for p in files)
-        print(f"wrote {counts} to {args.aiding_out}")
+        print(f"wrote {counts} to {args.aiding_out}" if files else
+              f"wrote no aiding file to {args.aiding_out} (the [zupt] detector \"shoe\" finds "
+              "the stance in the IMU data)")
+        for name, (fname, _) in AIDING_FILES.items():      # a filter would read them as new
+            stale = Path(args.aiding_out) / fname
+            if stale.is_file() and stale not in files:
+                print(f"imunav: warning: {stale} is left from before: --aiding {args.aiding} "
+                      f"simulates no [{name}]" + (" readings (detector = \"shoe\")"
+                                                  if name == "zupt" and aiding.zupt else ""),
+                      file=sys.stderr)
     offset = motion.time_offset
     note = (f" (t = 0 is the first pose or waypoint, t = {offset:g} s in {args.motion})"
             if offset else "")
@@ -474,11 +494,19 @@ def cmd_filter(args) -> int:
     data = read_aiding(args.measurements, aiding.sensors, args.earth)
     t_end = float(sig.state_times()[-1])
     check_span(args.measurements, data, t_start, t_end)
+    meas = Path(args.measurements)
     if aiding.zupt and aiding.zupt.detector == "truth" and data.zupt is None:
-        raise ImunavError(f"[zupt] detector = \"truth\" needs {Path(args.measurements) / 'zupt.csv'}"
+        raise ImunavError(f"[zupt] detector = \"truth\" needs {meas / 'zupt.csv'}"
                           " (the stance intervals)")
+    if aiding.gnss and aiding.gnss.velocity_sigma and data.gnss.values.shape[1] == 3:
+        raise ImunavError(f"{meas / 'gnss.csv'} has no velocity columns, but --aiding "
+                          f"{args.aiding} sets [gnss] velocity_sigma: drop it, or give the "
+                          f"header {','.join(GNSS_HEADERS[args.earth][0])}")
     n_rows = len(sig) + (1 if sig.kind == "increments" else 0)
     check_disk(out["--out"], n_rows * (ROW_BYTES["states"] + 9 * 24), "this filter's output")
+    detector = aiding.zupt.detector if aiding.zupt else None
+    for msg in unused_files(args.measurements, aiding.sensors, detector):  # after the refusals
+        print(f"imunav: warning: {msg} (--aiding {args.aiding})", file=sys.stderr)
     if model is None:
         print("filter: no --imu given: the filter assumes an ideal IMU (no sensor-error states)")
     q0, v0, p0 = init.initial()

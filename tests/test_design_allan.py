@@ -285,7 +285,7 @@ def test_format_design_hand_written():
         "error, whole motion), from IMU cheap:",
         "  Largest value of each term that alone stays within the tolerance:",
         "    accel.bias                               0.5 mg   (this IMU: 2 mg)",
-        "    gyro.bias                             3.1 deg/h   (this IMU: 10 deg/h)",
+        "    gyro.bias                               3.1 °/h   (this IMU: 10 °/h)",
         "  All terms together: within the tolerance up to 0.25 × this IMU's values (its errors "
         "must shrink 4-fold).",
         "  Minimum sample rate (sampling alone below a tenth of the tolerance): 50 Hz.",

@@ -69,12 +69,14 @@ def test_defaults():
     ({"gnss": {"rate": 1, "position_sigma": 1, "outages": [[5, 3]]}}, "outages[0] must be"),
     ({"gnss": {"rate": 1, "position_sigma": "1"}}, "position_sigma must be a finite number"),
     ({"baro": {"rate": 1, "sigma": 0}}, "[baro] sigma must be a positive"),
-    ({"baro": {"rate": 1, "sigma": 1, "bias_drift": -1}}, "[baro] bias_drift must be ≥ 0"),
-    ({"heading": {"rate": 1, "sigma": "2 m"}}, "heading.sigma"),
+    ({"baro": {"rate": 1, "sigma": 1, "bias_drift": -1}},
+     "[baro] bias_drift must be a non-negative number (m/√s), got -1"),
+    ({"heading": {"rate": 1, "sigma": "2 m"}}, "[heading] sigma = '2 m': unit 'm' is not an angle unit"),
     ({"nhc": {"sigma": -0.1}}, "[nhc] sigma must be a positive"),
     ({"zupt": {"sigma": 0.1, "detector": "glrt"}}, "detector must be \"truth\" or \"shoe\""),
     ({"zupt": {"sigma": 0.1, "window": 0}}, "window must be a whole number"),
-    ({"initial": {"position_sigma": -1}}, "[initial] position_sigma must be ≥ 0"),
+    ({"initial": {"position_sigma": -1}},
+     "[initial] position_sigma must be a non-negative number (m), got -1"),
     ({"gnss": [1, 2]}, "[gnss] must be a table"),
 ])
 def test_refusals_name_table_and_key(d, fragment):

@@ -26,7 +26,7 @@ from imunav.sensors.terms import TERMS
 __all__ = ["design", "format_design", "in_datasheet_units"]
 
 
-def in_datasheet_units(term: str, si: float) -> str:
+def in_datasheet_units(term: str, si: float, *, typographic: bool = False) -> str:
     """``"0.12 deg/sqrt(h)"``: an SI value of ``term`` (``"gyro.noise_density"``) in the
     datasheet unit its :class:`~imunav.sensors.terms.Term` is shown in.
 
@@ -35,13 +35,25 @@ def in_datasheet_units(term: str, si: float) -> str:
     term : str
         ``"<triad>.<term>"``.
     si : float
+    typographic : bool, default False
+        The unit as printed for people (``"0.12 °/√h"``, as every report of the command line
+        spells it) rather than as spelt in files and in the JSON of :func:`design`.
 
     Returns
     -------
     str
     """
     triad, _, name = term.partition(".")
-    return TERMS[name].show(si, triad)
+    return TERMS[name].show(si, triad, typographic=typographic)
+
+
+def _printed(term: str, text: str) -> str:
+    """A datasheet value of the JSON (``"0.12 deg/sqrt(h)"``) with its unit as printed
+    (``"0.12 °/√h"``); a text in another unit is left as it is."""
+    triad, _, name = term.partition(".")
+    value, _, unit = text.partition(" ")
+    shown = TERMS[name].display.get(triad) if name in TERMS else None
+    return f"{value} {shown[1]}" if shown and unit == shown[0] else text
 
 
 def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
@@ -86,7 +98,8 @@ def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
     dict
         ``motion``, ``imu``, ``rate_hz``, ``tolerance_m``; ``terms``: for each term of
         ``base`` with an effect, ``limit_si`` (SI), ``limit`` and ``base`` (in datasheet
-        units) and ``max_p95_position_m``; ``common_scale`` (the factor on all of ``base``'s
+        units, spelt as in files: ``"0.12 deg/sqrt(h)"``; the printed report writes them
+        ``"0.12 °/√h"``) and ``max_p95_position_m``; ``common_scale`` (the factor on all of ``base``'s
         values together that meets the tolerance, or None without error terms);
         ``min_rate_hz`` (:func:`~imunav.analysis.assessment.min_sample_rate`); ``presets``
         (``name``, ``final_p95_position_m``, ``suitable``, ``warnings``), best first; and
@@ -157,7 +170,8 @@ def format_design(r: dict) -> str:
     Returns
     -------
     str
-        Lines: each term's limit beside this IMU's value, the common scale, the minimum
+        Lines: each term's limit beside this IMU's value (units as printed: ``°/√h``,
+        ``µg``), the common scale, the minimum
         rate, the presets ranked (SUITABLE or NOT SUITABLE) and the warnings.
     """
     lines = [f"Design for motion {r['motion']} at {r['rate_hz']:g} Hz, tolerance "
@@ -168,7 +182,8 @@ def format_design(r: dict) -> str:
                      f"{r['alignment']['window_s']:g} s before the motion (heading given).")
     lines.append("  Largest value of each term that alone stays within the tolerance:")
     for k, v in sorted(r["terms"].items()):
-        lines.append(f"    {k:24s} {v['limit']:>22s}   (this IMU: {v['base']})")
+        lines.append(f"    {k:24s} {_printed(k, v['limit']):>22s}   "
+                     f"(this IMU: {_printed(k, v['base'])})")
     cs = r["common_scale"]
     lines.append("  All terms together: " + ("no error term" if cs is None else
                  f"within the tolerance up to {cs:.3g} × this IMU's values"

@@ -309,10 +309,17 @@ class AlongTruth:
             for j in range(t.size):
                 sched.setdefault(int(k[j]), []).append((name, float(t[j]), j,
                                                         float(t[j] - k[j] * h)))
-        if 0 in sched:
-            raise ImunavError("a reading at the very start (node 0) is not supported by the "
-                              "covariance analysis: an aid's rate is above half the IMU rate",
-                              argument="aiding")
+        if 0 in sched:                   # an update on the initial state: not modelled here
+            name, t0 = sched[0][0][:2]
+            if name == "zupt":
+                raise ImunavError(f"[zupt]: the motion stands still at t = {t0:.6g} s, and the "
+                                  "aided covariance analysis cannot apply a zero-velocity "
+                                  "update at the very start (node 0) yet: give the motion a "
+                                  "moving start, or drop [zupt]", argument="aiding")
+            raise ImunavError(f"[{name}]: its first reading (t = {t0:.6g} s) falls on the very "
+                              f"start (node 0) at the IMU rate of {rate:g} Hz, which the aided "
+                              f"covariance analysis does not support: keep its rate below "
+                              f"{2 * rate / algo.align:g} Hz", argument="aiding")
         updates = sorted(sched)
         if not updates or updates[-1] != N:
             updates.append(N)

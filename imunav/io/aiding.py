@@ -33,7 +33,8 @@ from imunav.core.validation import ImunavError
 from imunav.io.csvio import CsvWriter, read_chunks, read_header
 from imunav.sensors.aiding import AidingData, Readings
 
-__all__ = ["AIDING_FILES", "GNSS_HEADERS", "check_span", "read_aiding", "write_aiding"]
+__all__ = ["AIDING_FILES", "GNSS_HEADERS", "check_span", "read_aiding", "unused_files",
+           "write_aiding"]
 
 #: The headers of ``gnss.csv``: with and without velocity (flat frame).
 GNSS_HEADERS = {"flat": (("t", "x", "y", "z", "vx", "vy", "vz"), ("t", "x", "y", "z")),
@@ -94,14 +95,18 @@ def read_aiding(folder: str | Path, sensors, frame: str = "flat") -> AidingData:
     Raises
     ------
     ImunavError
-        For a missing folder or file, a wrong header, a value that is not a finite number,
-        times not strictly increasing, stance intervals with ``t1 < t0`` or overlapping, or
-        (wgs84) a latitude outside ±90° or a longitude outside ±180°.
+        For a missing folder or file, a file given as the folder, a wrong header, a value that
+        is not a finite number, times not strictly increasing, stance intervals with
+        ``t1 < t0`` or overlapping, or (wgs84) a latitude outside ±90° or a longitude outside ±180°.
     """
     if frame not in GNSS_HEADERS:
         raise ImunavError(f"frame must be one of {tuple(GNSS_HEADERS)}, got {frame!r}",
                           argument="frame")
     folder = Path(folder)
+    if folder.is_file():
+        raise ImunavError(f"measurements {folder} is a file; give the folder that holds "
+                          f"{', '.join(f for f, _ in AIDING_FILES.values())}",
+                          argument="measurements")
     if not folder.is_dir():
         raise ImunavError(f"measurements folder not found: {folder}", argument="measurements")
     out = AidingData()
@@ -158,6 +163,35 @@ def read_aiding(folder: str | Path, sensors, frame: str = "flat") -> AidingData:
                 values = values.copy()
                 values[:, :2] = np.radians(values[:, :2])
             setattr(out, name, Readings(data[:, 0], values))
+    return out
+
+
+def unused_files(folder: str | Path, sensors, detector: str | None = None) -> list[str]:
+    """The measurement files in ``folder`` that no aid of ``sensors`` reads, as warnings: such
+    a file would be ignored silently.
+
+    Parameters
+    ----------
+    folder : str or Path
+    sensors : iterable of str
+        The aids of the aiding file (``AidingConfig.sensors``).
+    detector : {"truth", "shoe"}, optional
+        The ``[zupt]`` detector: ``"shoe"`` finds the stance in the IMU data and reads no
+        ``zupt.csv``.
+
+    Returns
+    -------
+    list of str
+        One warning per file: ``"meas/baro.csv is not used: the aiding file has no [baro]
+        table"``.
+    """
+    folder, sensors = Path(folder), set(sensors)
+    out = [f"{folder / fname} is not used: the aiding file has no [{name}] table"
+           for name, (fname, _) in AIDING_FILES.items()
+           if name not in sensors and (folder / fname).is_file()]
+    if "zupt" in sensors and detector == "shoe" and (folder / "zupt.csv").is_file():
+        out.append(f"{folder / 'zupt.csv'} is not used: [zupt] detector = \"shoe\" finds the "
+                   "stance in the IMU data")
     return out
 
 

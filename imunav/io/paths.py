@@ -38,11 +38,19 @@ def input_files(paths) -> list[Path]:
     return out
 
 
+def _named(option: str, path: Path) -> str:
+    """``"--out a.csv"``: the option and its path, once — an option that already names its
+    file (``"--aiding-out q/nhc.csv"``, one file of a folder option) is left as it is."""
+    return option if option.endswith(f" {path}") else f"{option} {path}"
+
+
 def check_outputs(outputs: dict[str, str | Path | None], inputs) -> dict[str, Path]:
     """Check every output path against every input and each other; return them as Paths.
 
     ``outputs`` maps the option that names an output (``"--out"``) to its path (None: not
-    requested); ``inputs`` are the input files and folders.
+    requested); ``inputs`` are the input files and folders. An option may name its file
+    itself (``"--aiding-out q/nhc.csv"``: one file of a folder option); messages then name the
+    path once.
     """
     ins = [(q.resolve(), _identity(q), q) for q in input_files(inputs)]
     seen: list[tuple[Path, tuple | None, str]] = []
@@ -51,19 +59,20 @@ def check_outputs(outputs: dict[str, str | Path | None], inputs) -> dict[str, Pa
         if out is None:
             continue
         out = Path(out)
+        name = _named(option, out)
         if out.is_dir():
-            raise ImunavError(f"{option} {out} is a folder; give a file name")
+            raise ImunavError(f"{name} is a folder; give a file name")
         if not out.resolve().parent.is_dir():
-            raise ImunavError(f"{option} {out}: the folder {out.resolve().parent} does not exist")
+            raise ImunavError(f"{name}: the folder {out.resolve().parent} does not exist")
         rp, ident = out.resolve(), _identity(out)
         for ip, iid, orig in ins:
             if rp == ip or (ident is not None and ident == iid):
-                raise ImunavError(f"{option} {out} would overwrite the input file {orig}; "
-                                  "choose another output name")
+                what = "" if str(orig) == str(out) else f" {orig}"       # the path once
+                raise ImunavError(f"{name} would overwrite the input file{what}; choose another "
+                                  "output name")
         for sp, sid, other in seen:
             if rp == sp or (ident is not None and ident == sid):
-                raise ImunavError(f"{option} {out} is the same file as {other}; outputs must "
-                                  "differ")
+                raise ImunavError(f"{name} is the same file as {other}; outputs must differ")
         seen.append((rp, ident, option))
         checked[option] = out
     return checked

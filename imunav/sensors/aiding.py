@@ -2,7 +2,7 @@
 the SHOE zero-velocity detector on IMU data.
 
 An ``AIDING.toml`` has one optional table per aid (every value SI; an angle may also be a string
-with its unit, ``"2 deg"``)::
+with its unit, ``"2 deg"``: rad, mrad or deg — not ``%``, a scale factor's unit)::
 
     [gnss]      rate (Hz), position_sigma (m, white), velocity_sigma (m/s, white; no velocity
                 without it), correlated_sigma (m) and correlation_time (s) of a first-order
@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -55,7 +56,7 @@ from imunav.core.validation import ImunavError, read_toml, show
 from imunav.earth import dcm_ned_to_ecef, earth_rate_ned, ecef_to_geodetic, geodetic_to_ecef
 from imunav.motion.base import BaseMotion
 
-__all__ = ["AIDING_STREAM", "SECTIONS", "SHOE_SIGMA_A", "SHOE_SIGMA_G", "AidingConfig",
+__all__ = ["AIDING_STREAM", "ANGLE_UNITS", "SECTIONS", "SHOE_SIGMA_A", "SHOE_SIGMA_G", "AidingConfig",
            "AidingData", "BaroConfig", "GnssConfig", "HeadingConfig", "InitialConfig",
            "NhcConfig", "Readings", "ZuptConfig", "aiding_streams", "intervals_of",
            "shoe_intervals", "shoe_statistic", "simulate_aiding", "true_stance", "wrap_angle"]
@@ -86,23 +87,48 @@ def wrap_angle(a):
 
 # ----------------------------------------------------------------------------- configuration
 
+#: The units an angle of an ``AIDING.toml`` may be written in: those of
+#: :data:`imunav.core.units.ANGLE` less ``%`` (a cross-axis coupling, not an angle of its own).
+ANGLE_UNITS = {u: f for u, f in U.ANGLE.items() if u != "%"}
+
+
 def _number(table: dict, key: str, where: str, unit: str, *, positive: bool = True,
             required: bool = False, default=None, angle: bool = False):
+    """``table[key]`` as a finite number, > 0 (``positive``) or ≥ 0; an angle may be a string
+    with its unit (of :data:`ANGLE_UNITS`). Each message names ``[where] key`` and, unless
+    ``unit`` is empty (a plain number), its unit."""
+    in_unit = f" ({unit})" if unit else ""
     if key not in table:
         if required:
-            raise ImunavError(f"[{where}] {key} ({unit}) is required")
+            raise ImunavError(f"[{where}] {key}{in_unit} is required")
         return default
-    v = table[key]
+    v = raw = table[key]
     if angle and isinstance(v, str):
-        v = U.convert(v, U.ANGLE, f"{where}.{key}", f"[{where}] {key}")
+        v = _angle(v, f"[{where}] {key}")
     if isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v):
-        raise ImunavError(f"[{where}] {key} must be a finite number ({unit}), got {show(v)}")
+        raise ImunavError(f"[{where}] {key} must be a finite number{in_unit}, got {show(raw)}")
     v = float(v)
     if positive and not v > 0:
-        raise ImunavError(f"[{where}] {key} must be a positive number ({unit}), got {show(v)}")
+        raise ImunavError(f"[{where}] {key} must be a positive number{in_unit}, got {show(raw)}")
     if not positive and v < 0:
-        raise ImunavError(f"[{where}] {key} must be ≥ 0 ({unit}), got {show(v)}")
+        raise ImunavError(f"[{where}] {key} must be a non-negative number{in_unit}, got "
+                          f"{show(raw)}")
     return v
+
+
+def _angle(text: str, name: str) -> float:
+    """An angle written with its unit (``"2 deg"``) in radians, its sign kept (the caller checks
+    the range, so that its message says what the check is)."""
+    m = re.fullmatch(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*", text)
+    if not m:
+        raise ImunavError(f"{name} = {text!r}: expected a number or '<number> <unit>' (an "
+                          f"angle: {', '.join(ANGLE_UNITS)})")
+    unit = U.normalise(m.group(2))
+    if unit not in ANGLE_UNITS:
+        why = " (% is for scale factors)" if unit == "%" else ""
+        got = f"unit {m.group(2)!r} is not an angle unit{why}" if unit else "no unit"
+        raise ImunavError(f"{name} = {text!r}: {got}; accepted: {', '.join(ANGLE_UNITS)}")
+    return float(m.group(1)) * ANGLE_UNITS[unit]
 
 
 def _keys(table, where: str, allowed: tuple[str, ...]) -> dict:
@@ -194,6 +220,10 @@ class GnssConfig:
         if not isinstance(outages, list):
             raise ImunavError(f"[gnss] outages must be a list of [t0, t1] (s), got "
                               f"{show(outages)}")
+        if outages and all(isinstance(o, numbers.Real) for o in outages):
+            hint = f": write [{show(outages)}] for one outage" if len(outages) == 2 else ""
+            raise ImunavError(f"[gnss] outages must be a list of [t0, t1] (s), got "
+                              f"{show(outages)}{hint}")
         out = []
         for i, o in enumerate(outages):
             if (not isinstance(o, list) or len(o) != 2 or

@@ -268,7 +268,8 @@ class Term:
         digits : int
             Significant digits.
         typographic : bool
-            Write the unit as printed (``deg/√h``, ``µg``) rather than as spelt in files.
+            Write the unit as printed for people (``°/√h``, ``µg``: every report of the command
+            line and the notebooks) rather than as spelt in files (``deg/sqrt(h)``, ``ug``).
 
         Returns
         -------
@@ -366,7 +367,7 @@ class WhiteNoise(Term):
     parameters_ = (_main("noise_density", _tables(U.DENSITY_RATE, U.DENSITY_ACCEL),
                          {"gyro": "rate noise density / angle random walk",
                           "accel": "acceleration noise density / velocity random walk"}),)
-    display = {"gyro": ("deg/sqrt(h)", "deg/√h", "rad/s/√Hz (= rad/√s)"),
+    display = {"gyro": ("deg/sqrt(h)", "°/√h", "rad/s/√Hz (= rad/√s)"),
                "accel": ("ug/sqrt(Hz)", "µg/√Hz", "m/s²/√Hz (= m/s/√s)")}
 
     def start(self, model, stream, rng):
