@@ -248,3 +248,16 @@ def test_simulate_names_files_left_from_an_earlier_run(sim, tmp_path, capsys):
     shoe.write_text('[zupt]\nsigma = 0.01\ndetector = "shoe"\n')
     code, text, _ = _run(capsys, *argv[:-3], "--aiding-out", tmp_path / "none", "--aiding", shoe)
     assert code == 0 and "wrote no aiding file" in text and "wrote  to" not in text
+
+
+def test_a_folder_given_for_a_toml_file_is_called_a_folder(tmp_path, capsys):
+    """`--aiding DIR` said 'aiding file not found' for a folder that exists."""
+    from imunav.cli import main
+
+    motion = tmp_path / "m.toml"
+    motion.write_text('duration = 2\n[attitude]\nroll = "0.3*sin(t)"\n')
+    (tmp_path / "aid_dir").mkdir()
+    assert main(["assess", str(motion), "--imu", "ADIS16470", "--rate", "50", "--tolerance", "5",
+                 "--aiding", str(tmp_path / "aid_dir")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "is a folder; expected a TOML file" in err

@@ -299,6 +299,8 @@ def read_toml(path, what: str) -> dict:
         offset), or malformed TOML (with tomllib's line and column).
     """
     path = Path(path)
+    if path.is_dir():
+        raise ImunavError(f"{what} {path} is a folder; expected a TOML file")
     if not path.is_file():
         raise ImunavError(f"{what} not found: {path}")
     try:
