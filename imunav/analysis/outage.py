@@ -1066,7 +1066,8 @@ def format_outage_design(r: dict) -> str:
                      + ("filter retuned to it; in brackets with the filter kept at this IMU's "
                         "tuning):" if retuned else "filter kept at this IMU's tuning):"))
         for k, v in sorted(r["terms"].items()):
-            lim = v["limit"] if v["limit_si"] else "none"
+            lim = ("unbounded" if v["limit_si"] is None else
+                   v["limit"] if v["limit_si"] > 0 else "none")
             extra = (f"; filter kept: {v['limit_base_tuning']}" if retuned and
                      v.get("limit_base_tuning_si") else "")
             note = f" — {v['note']}" if v.get("note") else ""
