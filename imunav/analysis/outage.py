@@ -840,9 +840,9 @@ def term_limits(at: AlongTruth, tolerance: float, outages, *, retune: bool = Tru
     **The filter is retuned** to the term's value (``retune=True``, the default): the filter
     of ``imunav filter --imu`` is built from the IMU file, so an engineer who asks "how bad
     may this term be with this filter" fits the IMU they would buy and gives the filter its
-    datasheet; the gains then change with the value and each trial is one covariance pass
-    (the largest p95 grows smoothly with the value: a few passes per term land within ``rtol``
-    below the tolerance). The limit with the filter **kept at the IMU's own tuning** (the
+    datasheet; the gains then change with the value, and a fixed-point iteration of passes
+    tuned to the current value (:func:`_retuned_limit`; two or three per term) lands within
+    ``rtol`` below the tolerance. The limit with the filter **kept at the IMU's own tuning** (the
     same gains, the real term worse than the filter believes) is exact from one pass split by
     source — the true covariance is then linear in each source's weight — and is reported
     beside it (``limit_base_tuning_si``); it also starts the retuned search.
@@ -858,7 +858,7 @@ def term_limits(at: AlongTruth, tolerance: float, outages, *, retune: bool = Tru
     rtol : float
         Stop when the p95 at the limit is this close below the tolerance (relative).
     iters : int
-        Passes per phase of the search (bracketing, then regula falsi).
+        At most this many passes per term.
 
     Returns
     -------
@@ -882,7 +882,7 @@ def term_limits(at: AlongTruth, tolerance: float, outages, *, retune: bool = Tru
     for j in imu_j:
         term = names[j]
         triad, _, name = term.partition(".")
-        value = float(np.max(np.abs(getattr(getattr(at.imu, triad), name))))
+        value = float(getattr(getattr(at.imu, triad), name))
         if not np.any(split[j]):
             continue
         k_fix = _fixed_tuning_limit(total - split[j], split[j], tolerance)
