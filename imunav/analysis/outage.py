@@ -804,8 +804,8 @@ def _retuned_limit(at: AlongTruth, act: np.ndarray, j: int, k0: float, tolerance
     tuned to the current ``k`` and split into the term and the rest; with those gains the
     true covariance is ``rest + (k'/k)² term`` exactly, so the next ``k'`` is the exact limit
     at those gains (:func:`_fixed_tuning_limit`). The gains of a filter tuned to the truth
-    are optimal, so the true covariance is stationary in them: the iteration converges fast
-    and from below. Stops when a tried ``k`` passes within ``rtol`` below the tolerance;
+    are (nearly: the models may differ) optimal, so the true covariance is stationary in them:
+    the iteration converges in a few passes, usually from below. Stops when a tried ``k`` passes within ``rtol`` below the tolerance;
     returns the largest passing ``k`` tried and its largest p95 (``(0, p)`` when the others
     alone exceed the tolerance even with the term at ``TERM_RANGE[0]``)."""
     lo_k, hi_k = TERM_RANGE
