@@ -805,8 +805,9 @@ def _retuned_limit(at: AlongTruth, act: np.ndarray, j: int, k0: float, tolerance
     true covariance is ``rest + (k'/k)² term`` exactly, so the next ``k'`` is the exact limit
     at those gains (:func:`_fixed_tuning_limit`). The gains of a filter tuned to the truth
     are (nearly: the models may differ) optimal, so the true covariance is stationary in them:
-    the iteration converges in a few passes, usually from below. Stops when a tried ``k`` passes within ``rtol`` below the tolerance;
-    returns the largest passing ``k`` tried and its largest p95 (``(0, p)`` when the others
+    the iteration converges in a few passes, usually from below. Stops when a tried ``k``
+    passes within ``rtol`` below the tolerance; returns the largest passing ``k`` tried and
+    its largest p95 (``(0, p)`` when the others
     alone exceed the tolerance even with the term at ``TERM_RANGE[0]``)."""
     lo_k, hi_k = TERM_RANGE
     k = float(np.clip(k0, lo_k, hi_k))
@@ -938,8 +939,10 @@ def rank_presets(motion: BaseMotion, aiding: AidingConfig, rate: float, toleranc
     list of dict
         ``{"name", "max_p95_position_m", "final_p95_position_m", "suitable", "warnings"}``
         (the keys of :func:`~imunav.analysis.design.design`'s presets, ``max_p95…`` added)
-        and with ``find`` ``max_outage_s``, ``outage_start_s``, ``limited_by_motion``; sorted
-        by the largest p95.
+        and ``outside_linearisation`` (the attitude error's p95 beyond
+        :data:`ATTITUDE_VALID`: the real EKF may diverge where the covariance does not), with
+        ``find`` ``max_outage_s``, ``outage_start_s``, ``limited_by_motion``; sorted by the
+        largest p95, those outside the linearisation last.
     """
     outs = _file_outages(aiding)
     rows = []
@@ -953,14 +956,16 @@ def rank_presets(motion: BaseMotion, aiding: AidingConfig, rate: float, toleranc
                             "the filter's linearisation")
         row = {"name": name, "max_p95_position_m": float(truth.max()),
                "final_p95_position_m": float(truth[-1]),
-               "suitable": bool(truth.max() <= tolerance), "warnings": warnings}
+               "suitable": bool(truth.max() <= tolerance), "warnings": warnings,
+               "outside_linearisation": bool(att.max() > ATTITUDE_VALID)}
         if find == "outage":
             f = find_outage(motion, imu, aiding, rate, tolerance, duration, start=start, at=at,
                             budget=False)
             row.update({k: f[k] for k in ("max_outage_s", "outage_start_s",
                                           "limited_by_motion")})
         rows.append(row)
-    rows.sort(key=lambda r: r["max_p95_position_m"])
+    # a preset beyond the linearisation last: its small p95 is not to be trusted
+    rows.sort(key=lambda r: (r["outside_linearisation"], r["max_p95_position_m"]))
     return rows
 
 
@@ -1112,7 +1117,7 @@ def format_outage_design(r: dict) -> str:
                 row += (f"   max_outage_s {p['max_outage_s']:5g} s from "
                         f"{p['outage_start_s']:g} s"
                         + (" (the rest of the motion)" if p["limited_by_motion"] else ""))
-            if p["warnings"]:
+            if p.get("outside_linearisation"):
                 row += " (outside the linear model: check with Monte Carlo)"
             lines.append(row)
     for w in r["warnings"]:
