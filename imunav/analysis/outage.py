@@ -747,6 +747,10 @@ def common_scale(at: AlongTruth, tolerance: float, outages, *, rtol: float = 0.0
 #: Per-term limits are searched between this fraction and this multiple of the base value.
 TERM_RANGE = (1e-3, 1e4)
 
+#: A gain error (misalignment in rad, scale factor) whose 1σ limit passes this is flagged: the
+#: error model is linear in it (small angles), and the filter estimating it may hide that.
+GAIN_VALID = 0.05
+
 
 def _term_weights(at: AlongTruth, j: int, k: float, retune: bool
                   ) -> tuple[FloatArray, FloatArray]:
@@ -868,7 +872,8 @@ def term_limits(at: AlongTruth, tolerance: float, outages, *, retune: bool = Tru
         "limit_base_tuning", "note"}}`` for each IMU term with an effect, ``limit_si`` the
         term's value at the limit (SI; 0 when no value in ``TERM_RANGE`` × the IMU's meets the
         tolerance — the other sources alone exceed it —, None when even ``TERM_RANGE[1]`` ×
-        it does).
+        it does); ``note`` says which, or that a gain error's limit passes
+        :data:`GAIN_VALID`.
     """
     tolerance = check_positive(tolerance, "tolerance")
     act = _active(at, [outages])
@@ -898,6 +903,10 @@ def term_limits(at: AlongTruth, tolerance: float, outages, *, retune: bool = Tru
             note = "the other sources alone exceed the tolerance"
         elif not np.isfinite(k) or k >= TERM_RANGE[1]:
             note = f"within the tolerance up to {TERM_RANGE[1]:g} × this IMU's value"
+            k = float("inf")
+        elif name in ("misalignment", "scale_factor") and value * k > GAIN_VALID:
+            note = (f"beyond the small-error model (1σ above {GAIN_VALID:g}): check with "
+                    "Monte Carlo")
         lim = None if not np.isfinite(k) else value * k
         fix = None if not np.isfinite(k_fix) else value * k_fix
         out[term] = {"limit_si": lim,
