@@ -1077,8 +1077,9 @@ def format_outage_design(r: dict) -> str:
         retuned = r.get("term_limits_filter", "retuned") == "retuned"
         lines.append("  Largest value of each IMU term, the others at this IMU's, within the "
                      "tolerance through the file's outages ("
-                     + ("filter retuned to it; in brackets with the filter kept at this IMU's "
-                        "tuning):" if retuned else "filter kept at this IMU's tuning):"))
+                     + ("the filter retuned to each value; 'filter kept': the limit with the "
+                        "filter at this IMU's tuning):" if retuned
+                        else "the filter kept at this IMU's tuning):"))
         for k, v in sorted(r["terms"].items()):
             lim = ("unbounded" if v["limit_si"] is None else
                    v["limit"] if v["limit_si"] > 0 else "none")
