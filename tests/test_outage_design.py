@@ -161,3 +161,14 @@ def test_cli_design_aiding_prints_and_writes_the_unaided_keys(tmp_path, capsys):
     assert "Largest value of each IMU term" in out and "Presets, best first" in out
     for p in r["presets"]:
         assert any(line.split()[:1] == [p["name"]] for line in out.splitlines())
+
+
+def test_a_preset_beyond_the_linearisation_ranks_last(drive):
+    """Through the drive's 60 s tunnel the MPU-6050's covariance says 14 m, the BNO055's 23 m;
+    but the MPU-6050's attitude error leaves the linearisation (its turn-on bias), so its
+    small number is not the real EKF's: it ranks last, flagged."""
+    aiding = AidingConfig.from_toml(ROOT / "examples" / "drive_aiding.toml")
+    rows = O.rank_presets(drive, aiding, 20.0, 10.0, 240.0, presets=["MPU-6050", "BNO055"])
+    assert [r["name"] for r in rows] == ["BNO055", "MPU-6050"]
+    assert rows[1]["outside_linearisation"] and not rows[0]["outside_linearisation"]
+    assert rows[1]["max_p95_position_m"] < rows[0]["max_p95_position_m"]
