@@ -172,3 +172,10 @@ def test_a_preset_beyond_the_linearisation_ranks_last(drive):
     assert [r["name"] for r in rows] == ["BNO055", "MPU-6050"]
     assert rows[1]["outside_linearisation"] and not rows[0]["outside_linearisation"]
     assert rows[1]["max_p95_position_m"] < rows[0]["max_p95_position_m"]
+
+
+def test_a_gain_error_beyond_the_small_error_model_is_flagged(adis):
+    _, _, limits = adis
+    acc = limits["accel.misalignment"]
+    assert acc["limit_si"] > O.GAIN_VALID and "small-error model" in acc["note"]
+    assert limits["gyro.noise_density"]["note"] is None
