@@ -81,10 +81,15 @@ def main(argv=None) -> int:
           f"{mc.rejected}")
     if a.out:
         Path(a.out).write_text(json.dumps({
+            "command": "python benchmarks/outage_confirm.py " + " ".join(
+                sys.argv[1:] if argv is None else argv),
             "imu": a.imu, "rate_hz": a.rate, "tolerance_m": a.tolerance, "runs": a.runs,
-            "max_outage_s": L, "outage_start_s": s,
+            "seed": a.seed, "max_outage_s": L, "outage_start_s": s,
             "covariance_p95_end_m": f["position_p95_end_m"], "montecarlo_p95_end_m": p95,
-            "t_end_s": t_end, "confirmed": ok}, indent=2) + "\n")
+            "montecarlo_over_tolerance": p95 / a.tolerance, "t_end_s": t_end,
+            "rejected_readings": mc.rejected, "seconds_covariance": t_cov,
+            "seconds_montecarlo": t_mc, "load_average_1min": os.getloadavg()[0],
+            "confirmed": ok}, indent=2) + "\n")
     return 0 if ok else 1
 
 
