@@ -1437,9 +1437,9 @@ def run_filter_batch(signals: list[ImuSignals], q0: npt.ArrayLike, v0: npt.Array
         bounds = list(range(a, b, m_cov)) + [b]
         traj, lens = _linearisation_batch(bounds, q_nodes, v_nodes, gw, aw, a - w0, kind, h, g)
         for lo, hi, L in _groups(lens):
-            Phi, Qd = system.discretise(traj.piece(lo * R, hi * R), L * h)
+            st = system.steps(traj.piece(lo * R, hi * R), L * h)
             for i in range(hi - lo):
-                P = _predict_batch(P, Phi[i * R:(i + 1) * R], Qd[i * R:(i + 1) * R])
+                P = _predict_batch_step(P, st, slice(i * R, (i + 1) * R))
                 ep_idx.append(bounds[lo + i + 1])
                 ep_P.append(P[:, :NAV, :NAV].copy())
         s_hat = s_hat * system.decay(np.array([t_nodes[b] - t_nodes[a]]))
@@ -1492,24 +1492,28 @@ def _linearisation_batch(bounds, q_nodes, v_nodes, gw, aw, off, kind, h, g
     return traj, L.tolist()
 
 
-def _predict_batch(P: FloatArray, Phi: FloatArray, Qd: FloatArray) -> FloatArray:
-    """:meth:`AidedSystem.predict` of R runs at once (P, Φ, Q_d (R, n, n))."""
+def _predict_batch_step(P: FloatArray, st: StepBlocks, rows: slice) -> FloatArray:
+    """:meth:`AidedSystem.predict_step` of R runs at once: P (R, n, n), the blocks of steps
+    ``rows`` of :meth:`AidedSystem.steps` (one step per run)."""
     k = NAV
+    F = st.F[rows]
     if P.shape[-1] == k:
-        out = Phi @ P @ np.swapaxes(Phi, 1, 2) + Qd
+        out = F @ P @ np.swapaxes(F, 1, 2) + st.Qnn[rows]
         return 0.5 * (out + np.swapaxes(out, 1, 2))
-    F, G = Phi[:, :k, :k], Phi[:, :k, k:]
-    E = np.diagonal(Phi, axis1=1, axis2=2)[:, k:]
+    G, E = st.G[rows], st.E[rows]
     Pnn, Pns, Pss = P[:, :k, :k], P[:, :k, k:], P[:, k:, k:]
     X = F @ Pns + G @ Pss
     Y = F @ Pnn + G @ np.swapaxes(Pns, 1, 2)
     out = np.empty_like(P)
     nn = Y @ np.swapaxes(F, 1, 2) + X @ np.swapaxes(G, 1, 2)
-    out[:, :k, :k] = 0.5 * (nn + np.swapaxes(nn, 1, 2))
-    out[:, :k, k:] = X * E[:, None, :]
+    out[:, :k, :k] = 0.5 * (nn + np.swapaxes(nn, 1, 2)) + st.Qnn[rows]
+    out[:, :k, k:] = X * E[:, None, :] + st.Qns[rows]
     out[:, k:, :k] = np.swapaxes(out[:, :k, k:], 1, 2)
-    out[:, k:, k:] = Pss * (E[:, :, None] * E[:, None, :])
-    return out + Qd
+    ss = Pss * (E[:, :, None] * E[:, None, :])
+    m = ss.shape[-1]
+    ss[:, range(m), range(m)] += st.qss
+    out[:, k:, k:] = ss
+    return out
 
 
 def _updates_batch(readings, k, q_nodes, v_nodes, p_nodes, gyro_raw, accel_raw, s_hat, system,
