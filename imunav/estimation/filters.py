@@ -338,9 +338,13 @@ class AidedSystem:
         B = self.sensor_input(traj)
         n, N, m = self.n, traj.steps, self.n - NAV
         rows_at = self._flat_rows(traj, B) if self.model is FLAT else None
+        x, w = GAUSS_LEGENDRE
+        xs, ws = (x + 1) / 2 * h, w / 2 * h
+        if rows_at is not None:
+            # every node's rows at once, and those at s = h: the rows of Φ (the same operations)
+            at = rows_at(np.append(xs, h))
         if rows_at is not None and not full:
-            # the rows of the flat closed form at s = h are those of Φ (the same operations)
-            r = rows_at(h)
+            r = at[-1]
             Phi, F, G = None, r[:, :, :NAV], r[:, :, NAV:]
             E = np.broadcast_to(np.exp(self.D * h), (N, m))
         else:
@@ -358,10 +362,19 @@ class AidedSystem:
             # Φ Qc Φᵀ are Φ_n Qc Φ_nᵀ, Γ diag(Qs e^{Ds}) and diag(Qs e^{2Ds}).
             q = Qc[nz]
             qs = Qc[NAV:]
-            x, w = GAUSS_LEGENDRE
-            for xi, wi in zip((x + 1) / 2 * h, w / 2 * h, strict=True):
-                rows = (rows_at(xi) if rows_at is not None else
-                        self.model.transition(traj, B, self.D, xi)[:, :NAV])   # (N, 9, n)
+            if rows_at is not None:                             # every node at once
+                Pn = at[:-1, :, :, nz]
+                W = ws[:, None, None, None]
+                QQ = W * (Pn * q) @ np.swapaxes(Pn, -1, -2)
+                e = np.exp(np.outer(xs, self.D))
+                QN = W * at[:-1, :, :, NAV:] * (qs * e)[:, None, None, :] if n > NAV else None
+                for i, wi in enumerate(ws):                     # summed in the nodes' order
+                    Qnn += QQ[i]
+                    if n > NAV:
+                        Qns += QN[i]
+                        qss += wi * qs * e[i] * e[i]
+            for xi, wi in zip(xs, ws, strict=True) if rows_at is None else ():
+                rows = self.model.transition(traj, B, self.D, xi)[:, :NAV]   # (N, 9, n)
                 Pn = rows[:, :, nz]
                 Qnn += wi * (Pn * q) @ np.swapaxes(Pn, 1, 2)
                 if n > NAV:
@@ -381,26 +394,34 @@ class AidedSystem:
         Bv = B[:, 3:6]
         I3 = np.eye(3)
 
-        def rows(s):
+        def phis(s):
             key = float(s)
             phi = self._phi.get(key)
             if phi is None:
                 if len(self._phi) > 256:
                     self._phi.clear()
                 phi = self._phi[key] = phi_functions(self.D, key)
-            p0, p1, p2 = phi
-            out = np.zeros((N, NAV, self.n))
-            out[:, 0:3, 0:3] = I3
-            out[:, 3:6, 0:3] = F * s
-            out[:, 3:6, 3:6] = I3
-            out[:, 6:9, 0:3] = F * (s * s / 2)
-            out[:, 6:9, 3:6] = I3 * s
-            out[:, 6:9, 6:9] = I3
-            G = out[:, :, NAV:]
+            return phi
+
+        def rows(s):
+            """At one ``s`` (N, 9, n); at an array of them (S, N, 9, n): the same numbers."""
+            one = np.ndim(s) == 0
+            sv = np.atleast_1d(np.asarray(s, dtype=float))
+            p0, p1, p2 = (np.stack(p)[:, None, None, :] for p in zip(*map(phis, sv),
+                                                                      strict=True))
+            sv = sv[:, None, None, None]
+            out = np.zeros((sv.shape[0], N, NAV, self.n))
+            out[:, :, 0:3, 0:3] = I3
+            out[:, :, 3:6, 0:3] = F * sv
+            out[:, :, 3:6, 3:6] = I3
+            out[:, :, 6:9, 0:3] = F * (sv * sv / 2)
+            out[:, :, 6:9, 3:6] = I3 * sv
+            out[:, :, 6:9, 6:9] = I3
+            G = out[..., NAV:]
             G += B * p0
-            G[:, 3:6] += FB * p1
-            G[:, 6:9] += Bv * p1 + FB * p2
-            return out
+            G[:, :, 3:6] += FB * p1
+            G[:, :, 6:9] += Bv * p1 + FB * p2
+            return out[0] if one else out
 
         return rows
 
