@@ -341,8 +341,9 @@ class AidedSystem:
         x, w = GAUSS_LEGENDRE
         xs, ws = (x + 1) / 2 * h, w / 2 * h
         if rows_at is not None:
-            # every node's rows at once, and those at s = h: the rows of Φ (the same operations)
-            at = rows_at(np.append(xs, h))
+            # every node's rows at once, and unless the whole Φ is asked for those at s = h:
+            # the rows of Φ (the same operations)
+            at = rows_at(xs if full else np.append(xs, h))
         if rows_at is not None and not full:
             r = at[-1]
             Phi, F, G = None, r[:, :, :NAV], r[:, :, NAV:]
@@ -363,11 +364,12 @@ class AidedSystem:
             q = Qc[nz]
             qs = Qc[NAV:]
             if rows_at is not None:                             # every node at once
-                Pn = at[:-1, :, :, nz]
+                S = xs.size
+                Pn = at[:S, :, :, nz]
                 W = ws[:, None, None, None]
                 QQ = W * (Pn * q) @ np.swapaxes(Pn, -1, -2)
                 e = np.exp(np.outer(xs, self.D))
-                QN = W * at[:-1, :, :, NAV:] * (qs * e)[:, None, None, :] if n > NAV else None
+                QN = W * at[:S, :, :, NAV:] * (qs * e)[:, None, None, :] if n > NAV else None
                 for i, wi in enumerate(ws):                     # summed in the nodes' order
                     Qnn += QQ[i]
                     if n > NAV:
