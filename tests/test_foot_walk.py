@@ -297,3 +297,27 @@ def test_zupt_walk_refuses_what_it_cannot_do():
         zupt_walk(WALK, "ideal", detector="magic")
     with pytest.raises(ImunavError, match="stance_intervals"):
         zupt_walk(CATALOG["stationary"][0](5.0), "ideal")
+
+
+@pytest.mark.parametrize("chunk", [None, 512])
+def test_a_shared_ideal_record_gives_the_same_walk(monkeypatch, chunk):
+    """``zupt_walk(…, ideal=…)`` (the ideal increments simulated once for a table of presets)
+    is the walk of its own simulation bit for bit — the same samples, so the same SHOE
+    intervals and the same filter — also when the record is measured in several chunks."""
+    import imunav.analysis.zupt as zupt
+    if chunk is not None:
+        monkeypatch.setattr(zupt, "CHUNK", chunk)
+    walk = foot_walk(20.0)
+    ideal = simulate_imu(walk, 100.0, output="increments")
+    for p, d in (("ADIS16470", "shoe"), ("BMI088", "truth")):
+        a = zupt_walk(walk, p, 100.0, detector=d, seed=3)
+        b = zupt_walk(walk, p, 100.0, detector=d, seed=3, ideal=ideal)
+        assert np.array_equal(a.statistic, b.statistic)
+        assert np.array_equal(a.result.states.position, b.result.states.position)
+        assert a.match == b.match and a.shoe == b.shoe
+        assert b.shoe == detect_stances(walk, p, 100.0, seed=3, ideal=ideal) \
+            == detect_stances(walk, p, 100.0, seed=3)
+    with pytest.raises(ImunavError, match="ideal"):
+        zupt_walk(walk, "BMI088", 50.0, ideal=ideal)          # not the record at 50 Hz
+    with pytest.raises(ImunavError, match="ideal"):
+        zupt_walk(walk, "BMI088", 100.0, ideal=simulate_imu(walk, 100.0))     # rates

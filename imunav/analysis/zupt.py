@@ -26,8 +26,9 @@ from imunav.core.validation import ImunavError, check_positive
 from imunav.estimation.filters import FilterResult, run_filter
 from imunav.motion.base import BaseMotion
 from imunav.sensors.aiding import AidingConfig, AidingData, shoe_intervals, shoe_statistic
-from imunav.sensors.models import ImuModel
-from imunav.sensors.simulate import simulate_imu
+from imunav.sensors.models import ImuModel, MeasureStream
+from imunav.sensors.signals import ImuSignals
+from imunav.sensors.simulate import CHUNK, interval_count, simulate_imu
 
 __all__ = ["StanceMatch", "WalkRun", "detect_stances", "match_stances", "thin_stances",
            "walk_table", "zupt_walk"]
@@ -156,6 +157,9 @@ class WalkRun:
         The SHOE statistic at the IMU samples (for the detector's timeline).
     t : FloatArray
         The IMU sample times of ``statistic``.
+    shoe : StanceMatch
+        The SHOE detector's intervals on these samples against the true stances, whichever
+        detector the filter used (:func:`detect_stances` without simulating again).
     """
 
     result: FilterResult
@@ -169,6 +173,7 @@ class WalkRun:
     stride_error: FloatArray
     statistic: FloatArray
     t: FloatArray
+    shoe: StanceMatch
 
     @property
     def drift_percent(self) -> float:
@@ -196,7 +201,8 @@ class WalkRun:
 def zupt_walk(motion: BaseMotion, imu: ImuModel | str, rate: float = 100.0, *,
               detector: str = "truth", sigma: float = 0.01, zupt_rate: float | None = 5.0,
               threshold: float = 3e4, window: int = 3, seed: int = 0,
-              algorithm: str | None = None, smooth: bool = False) -> WalkRun:
+              algorithm: str | None = None, smooth: bool = False,
+              ideal: ImuSignals | None = None) -> WalkRun:
     """Simulate ``imu`` on a walk and navigate it with zero-velocity updates.
 
     Parameters
@@ -223,6 +229,12 @@ def zupt_walk(motion: BaseMotion, imu: ImuModel | str, rate: float = 100.0, *,
         0.2 % of the distance with an ideal IMU, ``poly8_m6`` 0.0003 %).
     smooth : bool
         Also the RTS smoother.
+    ideal : ImuSignals, optional
+        The ideal increments of ``motion`` at the IMU's internal rate (``simulate_imu(motion,
+        rate · imu.decimation(rate), output="increments")``): most of a simulation's cost, the
+        same for every preset and detector, so a table of runs simulates them once. The result
+        is the same as without (the IMU's errors are applied to them exactly as
+        :func:`~imunav.sensors.simulate.simulate_imu` does).
 
     Returns
     -------
@@ -231,14 +243,15 @@ def zupt_walk(motion: BaseMotion, imu: ImuModel | str, rate: float = 100.0, *,
     Raises
     ------
     ImunavError
-        For an unknown ``detector`` or a motion without stance intervals.
+        For an unknown ``detector``, a motion without stance intervals, or an ``ideal`` record
+        that is not that of ``motion`` at the internal rate.
     """
     if detector not in ("truth", "shoe"):
         raise ImunavError(f"detector must be \"truth\" or \"shoe\", got {detector!r}")
     if not hasattr(motion, "stance_intervals"):
         raise ImunavError("motion must be a walk with stance_intervals() (foot_walk)")
     model = ImuModel.load(imu) if isinstance(imu, str) else imu
-    sig, found, stat, ts = _detect(motion, model, rate, seed, threshold, window)
+    sig, found, stat, ts = _detect(motion, model, rate, seed, threshold, window, ideal)
     true = motion.stance_intervals()
     used = true if detector == "truth" else found
     t_nodes = sig.state_times()
@@ -253,14 +266,41 @@ def zupt_walk(motion: BaseMotion, imu: ImuModel | str, rate: float = 100.0, *,
     mid = true.mean(axis=1)
     stride_err = np.interp(mid, res.t, err)
     return WalkRun(res, detector, used, match_stances(true, used), distance, float(err[-1]),
-                   float(err.max()), mid, stride_err, stat, ts)
+                   float(err.max()), mid, stride_err, stat, ts, match_stances(true, found))
 
 
-def _detect(motion, model, rate, seed, threshold, window):
+def _measured(motion, model: ImuModel, rate: float, seed: int, ideal) -> ImuSignals:
+    """What ``simulate_imu(motion, rate, output="increments", imu=model, seed=seed)`` returns,
+    from the ideal increments at the internal rate: the same random streams, the same chunks
+    (``tests/test_foot_walk.py`` checks it bit for bit)."""
+    k = model.decimation(rate)
+    n = k * interval_count(rate, float(motion.duration))
+    if not isinstance(ideal, ImuSignals) or ideal.kind != "increments" or len(ideal) != n \
+            or not np.isclose(ideal.rate, rate * k, rtol=1e-12, atol=0.0):
+        got = (f"{ideal.kind} at {ideal.rate:g} Hz, {len(ideal)} samples"
+               if isinstance(ideal, ImuSignals) else type(ideal).__name__)
+        raise ImunavError(f"ideal must be the ideal increments of the motion at the IMU's "
+                          f"internal rate ({rate * k:g} Hz, {n} samples), got {got}",
+                          argument="ideal")
+    rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0])
+    stream = MeasureStream(model, "increments", rate * k, rng, k)
+    size = max(k, CHUNK // k * k)
+    parts = []
+    for lo in range(0, n, size):
+        gm, am, _ = stream.process(ideal.gyro[lo:lo + size], ideal.accel[lo:lo + size])
+        parts.append((ideal.t[lo:lo + size][k - 1::k][: gm.shape[0]], gm, am))
+    t, gyro, accel = (np.concatenate([p[i] for p in parts]) for i in range(3))
+    return ImuSignals(t, gyro, accel, "increments", float(rate), ideal.g, meta=dict(ideal.meta))
+
+
+def _detect(motion, model, rate, seed, threshold, window, ideal=None):
     """The IMU record of the walk and the SHOE detector on it: the mean rates of each
     increment at the interval's middle, as the filter's own ``"shoe"`` path."""
-    sig = simulate_imu(motion, rate, float(motion.duration), output="increments", imu=model,
-                       seed=seed)
+    if ideal is None:
+        sig = simulate_imu(motion, rate, float(motion.duration), output="increments",
+                           imu=model, seed=seed)
+    else:
+        sig = _measured(motion, model, rate, seed, ideal)
     h = 1.0 / rate
     w, a, ts = sig.gyro / h, sig.accel / h, sig.t - h / 2
     stat = shoe_statistic(w, a, g=sig.g, window=window)
@@ -269,7 +309,8 @@ def _detect(motion, model, rate, seed, threshold, window):
 
 
 def detect_stances(motion: BaseMotion, imu: ImuModel | str, rate: float = 100.0, *,
-                   threshold: float = 3e4, window: int = 3, seed: int = 0) -> StanceMatch:
+                   threshold: float = 3e4, window: int = 3, seed: int = 0,
+                   ideal: ImuSignals | None = None) -> StanceMatch:
     """The SHOE detector on the IMU record of :func:`zupt_walk` (same seed, same samples),
     against the true stances — without running the filter.
 
@@ -283,19 +324,22 @@ def detect_stances(motion: BaseMotion, imu: ImuModel | str, rate: float = 100.0,
     threshold, window : float, int
         The SHOE detector's.
     seed : int
+    ideal : ImuSignals, optional
+        As :func:`zupt_walk`.
 
     Returns
     -------
     StanceMatch
     """
     model = ImuModel.load(imu) if isinstance(imu, str) else imu
-    found = _detect(motion, model, rate, seed, threshold, window)[1]
+    found = _detect(motion, model, rate, seed, threshold, window, ideal)[1]
     return match_stances(motion.stance_intervals(), found)
 
 
 def walk_table(motion: BaseMotion, presets: list[str], rate: float = 100.0, *,
                detectors: tuple[str, ...] = ("truth", "shoe"), **kw) -> list[dict]:
-    """:func:`zupt_walk` for every preset and detector: one row each.
+    """:func:`zupt_walk` for every preset and detector: one row each (the ideal record
+    simulated once for all).
 
     Parameters
     ----------
@@ -313,9 +357,14 @@ def walk_table(motion: BaseMotion, presets: list[str], rate: float = 100.0, *,
         drift_per_stride_m, true, detected, missed, false``.
     """
     rows = []
+    ideal: dict[float, ImuSignals] = {}                 # simulated once per internal rate
     for p in presets:
+        model = ImuModel.load(p)
+        r = rate * model.decimation(rate)
+        if r not in ideal:
+            ideal[r] = simulate_imu(motion, r, float(motion.duration), output="increments")
         for d in detectors:
-            w = zupt_walk(motion, p, rate, detector=d, **kw)
+            w = zupt_walk(motion, model, rate, detector=d, ideal=ideal[r], **kw)
             rows.append({"preset": p, "detector": d, "distance_m": w.distance, "drift_m": w.drift,
                          "drift_percent": w.drift_percent,
                          "drift_max_percent": 100 * w.drift_max / w.distance,

@@ -123,12 +123,43 @@ from imunav.sensors.signals import ImuSignals
 from imunav.strapdown.earth import EarthIntegrator
 from imunav.strapdown.registry import resolve
 
-__all__ = ["SD_COLUMNS", "AidedSystem", "FilterResult", "Innovations", "build_measurements",
-           "nav_sd", "run_filter"]
+__all__ = ["SD_COLUMNS", "AidedSystem", "FilterResult", "Innovations", "StepBlocks",
+           "build_measurements", "nav_sd", "run_filter"]
 
 #: The standard-deviation columns of the filter's output, in order (m, m/s, rad).
 SD_COLUMNS = ("sd_pn", "sd_pe", "sd_pd", "sd_vn", "sd_ve", "sd_vd", "sd_roll", "sd_pitch",
               "sd_yaw")
+
+
+@dataclass
+class StepBlocks:
+    """The discrete system of N steps in blocks (:meth:`AidedSystem.steps`).
+
+    Attributes
+    ----------
+    Phi : ndarray, shape (N, n, n) or None
+        The whole transition (only when asked for).
+    F : ndarray, shape (N, 9, 9)
+        The navigation block of ``Φ``.
+    G : ndarray, shape (N, 9, n − 9)
+        ``Γ``: how the sensor and aid states enter the navigation errors over a step.
+    E : ndarray, shape (N, n − 9)
+        ``e^{D h}``, the diagonal of the sensor block of ``Φ``.
+    Qnn : ndarray, shape (N, 9, 9)
+        The navigation block of ``Q_d`` (symmetrised).
+    Qns : ndarray, shape (N, 9, n − 9)
+        Its navigation–sensor block.
+    qss : ndarray, shape (n − 9,)
+        The diagonal of its sensor block (the same for every step).
+    """
+
+    Phi: FloatArray | None
+    F: FloatArray
+    G: FloatArray
+    E: FloatArray
+    Qnn: FloatArray
+    Qns: FloatArray
+    qss: FloatArray
 
 
 class AidedSystem:
@@ -270,11 +301,60 @@ class AidedSystem:
             ``Φ`` in closed form for the motion held at each step's linearisation point;
             ``Q_d = ∫₀ʰ Φ(s) Qc Φ(s)ᵀ ds`` by 6-node Gauss–Legendre.
         """
+        st = self.steps(traj, h, Qc, full=True)
+        n, N = self.n, traj.steps
+        Qd = np.zeros((N, n, n))
+        Qd[:, :NAV, :NAV] = st.Qnn
+        if n > NAV:
+            Qd[:, :NAV, NAV:] = st.Qns
+            Qd[:, NAV:, :NAV] = np.swapaxes(st.Qns, 1, 2)
+            Qd[:, range(NAV, n), range(NAV, n)] = st.qss
+        return st.Phi, Qd
+
+    def steps(self, traj: Trajectory, h: float | None = None, Qc: FloatArray | None = None,
+              full: bool = False) -> StepBlocks:
+        """:meth:`discretise` in the blocks the prediction uses: the same numbers, without
+        the ``(N, n, n)`` arrays that are zero but for a diagonal.
+
+        ``Φ = [[F, Γ], [0, diag(E)]]``; ``Q_d = [[Q_nn, Q_ns], [Q_nsᵀ, diag(q_ss)]]`` (the
+        sensor and aid states are driven only by their own white noise, so their block of
+        ``Q_d`` is diagonal and the same for every step).
+
+        Parameters
+        ----------
+        traj : Trajectory
+        h : float, optional
+            The step (s); default ``traj.h``.
+        Qc : ndarray, shape (n,), optional
+            As :meth:`discretise`.
+        full : bool
+            Also the whole ``Φ`` (the smoother's gain needs it).
+
+        Returns
+        -------
+        StepBlocks
+        """
         h = traj.h if h is None else float(h)
         B = self.sensor_input(traj)
-        Phi = self.model.transition(traj, B, self.D, h)
-        n = self.n
-        Qd = np.zeros_like(Phi)
+        n, N, m = self.n, traj.steps, self.n - NAV
+        rows_at = self._flat_rows(traj, B) if self.model is FLAT else None
+        x, w = GAUSS_LEGENDRE
+        xs, ws = (x + 1) / 2 * h, w / 2 * h
+        if rows_at is not None:
+            # every node's rows at once, and unless the whole Φ is asked for those at s = h:
+            # the rows of Φ (the same operations)
+            at = rows_at(xs if full else np.append(xs, h))
+        if rows_at is not None and not full:
+            r = at[-1]
+            Phi, F, G = None, r[:, :, :NAV], r[:, :, NAV:]
+            E = np.broadcast_to(np.exp(self.D * h), (N, m))
+        else:
+            Phi = self.model.transition(traj, B, self.D, h)
+            F, G = Phi[:, :NAV, :NAV], Phi[:, :NAV, NAV:]
+            E = np.diagonal(Phi, axis1=1, axis2=2)[:, NAV:]
+        Qnn = np.zeros((N, NAV, NAV))
+        Qns = np.zeros((N, NAV, m))
+        qss = np.zeros(m)
         Qc = self.Qc if Qc is None else np.asarray(Qc, dtype=float)
         nz = self._noisy if Qc is self.Qc else np.nonzero(Qc)[0]
         if nz.size:
@@ -283,19 +363,27 @@ class AidedSystem:
             # Φ Qc Φᵀ are Φ_n Qc Φ_nᵀ, Γ diag(Qs e^{Ds}) and diag(Qs e^{2Ds}).
             q = Qc[nz]
             qs = Qc[NAV:]
-            x, w = GAUSS_LEGENDRE
-            rows_at = self._flat_rows(traj, B) if self.model is FLAT else None
-            for xi, wi in zip((x + 1) / 2 * h, w / 2 * h, strict=True):
-                rows = (rows_at(xi) if rows_at is not None else
-                        self.model.transition(traj, B, self.D, xi)[:, :NAV])   # (N, 9, n)
+            if rows_at is not None:                             # every node at once
+                S = xs.size
+                Pn = at[:S, :, :, nz]
+                W = ws[:, None, None, None]
+                QQ = W * (Pn * q) @ np.swapaxes(Pn, -1, -2)
+                e = np.exp(np.outer(xs, self.D))
+                QN = W * at[:S, :, :, NAV:] * (qs * e)[:, None, None, :] if n > NAV else None
+                for i, wi in enumerate(ws):                     # summed in the nodes' order
+                    Qnn += QQ[i]
+                    if n > NAV:
+                        Qns += QN[i]
+                        qss += wi * qs * e[i] * e[i]
+            for xi, wi in zip(xs, ws, strict=True) if rows_at is None else ():
+                rows = self.model.transition(traj, B, self.D, xi)[:, :NAV]   # (N, 9, n)
                 Pn = rows[:, :, nz]
-                Qd[:, :NAV, :NAV] += wi * (Pn * q) @ np.swapaxes(Pn, 1, 2)
+                Qnn += wi * (Pn * q) @ np.swapaxes(Pn, 1, 2)
                 if n > NAV:
                     e = np.exp(self.D * xi)
-                    Qd[:, :NAV, NAV:] += wi * rows[:, :, NAV:] * (qs * e)
-                    Qd[:, range(NAV, n), range(NAV, n)] += wi * qs * e * e
-            Qd[:, NAV:, :NAV] = np.swapaxes(Qd[:, :NAV, NAV:], 1, 2)
-        return Phi, 0.5 * (Qd + np.swapaxes(Qd, 1, 2))
+                    Qns += wi * rows[:, :, NAV:] * (qs * e)
+                    qss += wi * qs * e * e
+        return StepBlocks(Phi, F, G, E, 0.5 * (Qnn + np.swapaxes(Qnn, 1, 2)), Qns, qss)
 
     def _flat_rows(self, traj: Trajectory, B: FloatArray):
         """``s → Φ(s)[:9]`` of the flat model, its products with ``B`` formed once: the rows of
@@ -308,26 +396,34 @@ class AidedSystem:
         Bv = B[:, 3:6]
         I3 = np.eye(3)
 
-        def rows(s):
+        def phis(s):
             key = float(s)
             phi = self._phi.get(key)
             if phi is None:
                 if len(self._phi) > 256:
                     self._phi.clear()
                 phi = self._phi[key] = phi_functions(self.D, key)
-            p0, p1, p2 = phi
-            out = np.zeros((N, NAV, self.n))
-            out[:, 0:3, 0:3] = I3
-            out[:, 3:6, 0:3] = F * s
-            out[:, 3:6, 3:6] = I3
-            out[:, 6:9, 0:3] = F * (s * s / 2)
-            out[:, 6:9, 3:6] = I3 * s
-            out[:, 6:9, 6:9] = I3
-            G = out[:, :, NAV:]
+            return phi
+
+        def rows(s):
+            """At one ``s`` (N, 9, n); at an array of them (S, N, 9, n): the same numbers."""
+            one = np.ndim(s) == 0
+            sv = np.atleast_1d(np.asarray(s, dtype=float))
+            p0, p1, p2 = (np.stack(p)[:, None, None, :] for p in zip(*map(phis, sv),
+                                                                      strict=True))
+            sv = sv[:, None, None, None]
+            out = np.zeros((sv.shape[0], N, NAV, self.n))
+            out[:, :, 0:3, 0:3] = I3
+            out[:, :, 3:6, 0:3] = F * sv
+            out[:, :, 3:6, 3:6] = I3
+            out[:, :, 6:9, 0:3] = F * (sv * sv / 2)
+            out[:, :, 6:9, 3:6] = I3 * sv
+            out[:, :, 6:9, 6:9] = I3
+            G = out[..., NAV:]
             G += B * p0
-            G[:, 3:6] += FB * p1
-            G[:, 6:9] += Bv * p1 + FB * p2
-            return out
+            G[:, :, 3:6] += FB * p1
+            G[:, :, 6:9] += Bv * p1 + FB * p2
+            return out[0] if one else out
 
         return rows
 
@@ -359,6 +455,39 @@ class AidedSystem:
         out[k:, :k] = out[:k, k:].T
         out[k:, k:] = Pss * np.outer(E, E)
         return out + Qd
+
+    def predict_step(self, P: FloatArray, st: StepBlocks, i: int) -> FloatArray:
+        """:meth:`predict` of step ``i`` of :meth:`steps`: the same numbers (the same products,
+        ``Q_d`` added block by block).
+
+        Parameters
+        ----------
+        P : ndarray, shape (n, n)
+        st : StepBlocks
+        i : int
+
+        Returns
+        -------
+        ndarray, shape (n, n)
+        """
+        k = NAV
+        F = st.F[i]
+        if self.n == k:
+            out = F @ P @ F.T + st.Qnn[i]
+            return 0.5 * (out + out.T)
+        G, E = st.G[i], st.E[i]
+        Pnn, Pns, Pss = P[:k, :k], P[:k, k:], P[k:, k:]
+        X = F @ Pns + G @ Pss                                   # (9, m)
+        Y = F @ Pnn + G @ Pns.T                                 # (9, 9)
+        out = np.empty_like(P)
+        nn = Y @ F.T + X @ G.T
+        out[:k, :k] = 0.5 * (nn + nn.T) + st.Qnn[i]
+        out[:k, k:] = X * E + st.Qns[i]
+        out[k:, :k] = out[:k, k:].T
+        ss = Pss * np.outer(E, E)
+        ss.flat[::ss.shape[0] + 1] += st.qss
+        out[k:, k:] = ss
+        return out
 
     def triad_input(self, triad: str, u: FloatArray, f: FloatArray) -> FloatArray:
         """How the sensor states enter ``triad``'s error: ``δu = M x`` with ``M`` (N, 3, n).
@@ -833,9 +962,9 @@ def run_filter(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike, p0: np
                               gravitation_gradient(r_mid))
         P_steps = []
         for lo, hi, L in _groups(lens):
-            Phi, Qd = system.discretise(traj.piece(lo, hi), L * h)
+            st = system.steps(traj.piece(lo, hi), L * h)
             for i in range(hi - lo):
-                P = system.predict(P, Phi[i], Qd[i])
+                P = system.predict_step(P, st, i)
                 P_steps.append(P)
         s_decayed = s_hat * system.decay(t_nodes[bounds[1:]] - t_nodes[a])
         for j, Pj in enumerate(P_steps[:-1]):
@@ -1100,10 +1229,10 @@ def _smooth(res: FilterResult, segs, x_last, P_last, system: AidedSystem, M_ep=N
         Phis, Pf = [], [P_first]
         Pk = P_first
         for lo, hi, L in _groups(lens):
-            Phi, Qd = system.discretise(traj.piece(lo, hi), L * system.h)
+            st = system.steps(traj.piece(lo, hi), L * system.h, full=True)
             for i in range(hi - lo):
-                Phis.append(Phi[i])
-                Pk = system.predict(Pk, Phi[i], Qd[i])
+                Phis.append(st.Phi[i])
+                Pk = system.predict_step(Pk, st, i)
                 Pf.append(Pk)
         K = len(Phis)
         # backward: epoch j is this segment's end (prior: Pf[K]); then its inner epochs
@@ -1331,9 +1460,9 @@ def run_filter_batch(signals: list[ImuSignals], q0: npt.ArrayLike, v0: npt.Array
         bounds = list(range(a, b, m_cov)) + [b]
         traj, lens = _linearisation_batch(bounds, q_nodes, v_nodes, gw, aw, a - w0, kind, h, g)
         for lo, hi, L in _groups(lens):
-            Phi, Qd = system.discretise(traj.piece(lo * R, hi * R), L * h)
+            st = system.steps(traj.piece(lo * R, hi * R), L * h)
             for i in range(hi - lo):
-                P = _predict_batch(P, Phi[i * R:(i + 1) * R], Qd[i * R:(i + 1) * R])
+                P = _predict_batch_step(P, st, slice(i * R, (i + 1) * R))
                 ep_idx.append(bounds[lo + i + 1])
                 ep_P.append(P[:, :NAV, :NAV].copy())
         s_hat = s_hat * system.decay(np.array([t_nodes[b] - t_nodes[a]]))
@@ -1386,24 +1515,28 @@ def _linearisation_batch(bounds, q_nodes, v_nodes, gw, aw, off, kind, h, g
     return traj, L.tolist()
 
 
-def _predict_batch(P: FloatArray, Phi: FloatArray, Qd: FloatArray) -> FloatArray:
-    """:meth:`AidedSystem.predict` of R runs at once (P, Φ, Q_d (R, n, n))."""
+def _predict_batch_step(P: FloatArray, st: StepBlocks, rows: slice) -> FloatArray:
+    """:meth:`AidedSystem.predict_step` of R runs at once: P (R, n, n), the blocks of steps
+    ``rows`` of :meth:`AidedSystem.steps` (one step per run)."""
     k = NAV
+    F = st.F[rows]
     if P.shape[-1] == k:
-        out = Phi @ P @ np.swapaxes(Phi, 1, 2) + Qd
+        out = F @ P @ np.swapaxes(F, 1, 2) + st.Qnn[rows]
         return 0.5 * (out + np.swapaxes(out, 1, 2))
-    F, G = Phi[:, :k, :k], Phi[:, :k, k:]
-    E = np.diagonal(Phi, axis1=1, axis2=2)[:, k:]
+    G, E = st.G[rows], st.E[rows]
     Pnn, Pns, Pss = P[:, :k, :k], P[:, :k, k:], P[:, k:, k:]
     X = F @ Pns + G @ Pss
     Y = F @ Pnn + G @ np.swapaxes(Pns, 1, 2)
     out = np.empty_like(P)
     nn = Y @ np.swapaxes(F, 1, 2) + X @ np.swapaxes(G, 1, 2)
-    out[:, :k, :k] = 0.5 * (nn + np.swapaxes(nn, 1, 2))
-    out[:, :k, k:] = X * E[:, None, :]
+    out[:, :k, :k] = 0.5 * (nn + np.swapaxes(nn, 1, 2)) + st.Qnn[rows]
+    out[:, :k, k:] = X * E[:, None, :] + st.Qns[rows]
     out[:, k:, :k] = np.swapaxes(out[:, :k, k:], 1, 2)
-    out[:, k:, k:] = Pss * (E[:, :, None] * E[:, None, :])
-    return out + Qd
+    ss = Pss * (E[:, :, None] * E[:, None, :])
+    m = ss.shape[-1]
+    ss[:, range(m), range(m)] += st.qss
+    out[:, k:, k:] = ss
+    return out
 
 
 def _updates_batch(readings, k, q_nodes, v_nodes, p_nodes, gyro_raw, accel_raw, s_hat, system,
