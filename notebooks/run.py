@@ -22,6 +22,15 @@ ends with a direct check of the socket, so a lost wake-up costs at most a second
 recovered so (a message seen more than 0.2 s after it was sent while we waited) is counted and
 reported (``lost wake-ups``), never hidden; there is no retry.
 
+**Byte-stable output.** Run twice on one machine, a notebook is written back identical to the
+byte (so ``make reproduce`` on a fresh clone leaves ``git status`` clean): :func:`normalise`
+drops what changes from run to run although the computation does not — each cell's execution
+timestamps (``metadata.execution``, not recorded either) and the random ids ipywidgets gives its
+models, renamed ``sha256(notebook, k)`` by their order of first appearance (the cells' outputs,
+then the models they refer to, then the rest by content) the same in the views and in the
+stored widget state, so the stored widgets still render. Printed timings are a notebook's own
+business (notebook 05 prints a checked bound, not its seconds).
+
 The last line is ``notebooks: N executed, F failed, W lost wake-ups recovered (T s)``; the exit status is 1 if
 any notebook failed.
 """
@@ -29,6 +38,8 @@ any notebook failed.
 from __future__ import annotations
 
 import argparse
+import hashlib
+import json
 import re
 import subprocess
 import sys
@@ -45,6 +56,118 @@ HERE = Path(__file__).resolve().parent
 BIN = Path(sys.executable).parent
 KERNEL_SETUP = "from imunav.core.style import install_figure_check as _f; _f({mode!r}); del _f"
 _ANSI = re.compile(r"\x1b\[[0-9;]*m")
+
+
+WIDGET_VIEW = "application/vnd.jupyter.widget-view+json"
+WIDGET_STATE = "application/vnd.jupyter.widget-state+json"
+REF = "IPY_MODEL_"   # how one widget model's state refers to another (@jupyter-widgets/schema)
+
+
+def _strings(obj):
+    """Every string of a JSON value, in a fixed order (dict keys sorted)."""
+    if isinstance(obj, str):
+        yield obj
+    elif isinstance(obj, dict):
+        for k in sorted(obj):
+            yield from _strings(obj[k])
+    elif isinstance(obj, list):
+        for v in obj:
+            yield from _strings(v)
+
+
+def _model_id(s: str, known) -> str | None:
+    """The model id that string ``s`` names (the id itself or an ``IPY_MODEL_`` reference)."""
+    if s in known:
+        return s
+    if s.startswith(REF) and s[len(REF):] in known:
+        return s[len(REF):]
+    return None
+
+
+def _rename(obj, new: dict):
+    if isinstance(obj, str):
+        if obj in new:
+            return new[obj]
+        if obj.startswith(REF) and obj[len(REF):] in new:
+            return REF + new[obj[len(REF):]]
+        return obj
+    if isinstance(obj, dict):
+        return {k: _rename(v, new) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [_rename(v, new) for v in obj]
+    return obj
+
+
+def normalise(nb, name: str):
+    """Make executed notebook ``nb`` (named ``name``) byte-stable from run to run, in place.
+
+    Drops every cell's ``metadata.execution`` (kernel timestamps) and renames the widget models:
+    the k-th model met — in the cells' outputs in order, then through the models' references to
+    other models, then the unreferenced rest sorted by a signature of their content — becomes
+    ``sha256(f"{name}/{k}")[:32]``, everywhere: view outputs (``model_id``), the notebook's
+    widget state (keys and ``IPY_MODEL_`` references), and widget views nested in an Output
+    widget's state. Idempotent; everything else is left as it is. Returns ``nb``."""
+    for cell in nb.cells:
+        cell.get("metadata", {}).pop("execution", None)
+    bundle = nb.get("metadata", {}).get("widgets", {}).get(WIDGET_STATE)
+    state = bundle.get("state", {}) if bundle else {}
+    known = set(state)
+    for cell in nb.cells:
+        for out in cell.get("outputs", []):
+            view = out.get("data", {}).get(WIDGET_VIEW)
+            if isinstance(view, dict) and isinstance(view.get("model_id"), str):
+                known.add(view["model_id"])
+    if not known:
+        return nb
+    order: list[str] = []
+    seen: set[str] = set()
+
+    def meet(obj) -> None:
+        """Number the models ``obj`` names (in its order), then those they name."""
+        queue = []
+        for s in _strings(obj):
+            mid = _model_id(s, known)
+            if mid is not None and mid not in seen:
+                seen.add(mid)
+                order.append(mid)
+                queue.append(mid)
+        for mid in queue:
+            meet(state.get(mid, {}))
+
+    sigs: dict[str, str] = {}
+
+    def signature(mid: str, path=()) -> str:
+        """A model's content with each reference replaced by the referenced model's signature:
+        equal signatures are interchangeable subgraphs, whatever their ids."""
+        if mid in path:
+            return "<cycle>"
+        if mid not in sigs:
+            def sub(obj):
+                if isinstance(obj, str):
+                    ref = _model_id(obj, known)
+                    return obj if ref is None else "<" + signature(ref, path + (mid,)) + ">"
+                if isinstance(obj, dict):
+                    return {k: sub(v) for k, v in obj.items()}
+                if isinstance(obj, list):
+                    return [sub(v) for v in obj]
+                return obj
+            sigs[mid] = json.dumps(sub(state.get(mid)), sort_keys=True)
+        return sigs[mid]
+
+    for cell in nb.cells:
+        meet(cell.get("outputs", []))
+    for mid in sorted((m for m in state if m not in seen), key=signature):
+        if mid not in seen:
+            meet([mid])
+    new = {mid: hashlib.sha256(f"{name}/{k}".encode()).hexdigest()[:32]
+           for k, mid in enumerate(order)}
+    for cell in nb.cells:
+        if "outputs" in cell:
+            cell["outputs"] = nbformat.from_dict(_rename(cell["outputs"], new))
+    if bundle:
+        bundle["state"] = nbformat.from_dict({new[mid]: _rename(state[mid], new)
+                                              for mid in sorted(state, key=lambda m: new[m])})
+    return nb
 
 
 SLICE_S = 1.0     # longest single wait on a socket
@@ -131,7 +254,8 @@ def run_one(path: Path, timeout: float, sync: bool = True, write: bool = True,
         subprocess.run([str(BIN / "jupytext"), "--quiet", "--update", "--to", "ipynb", "-o",
                         str(path), str(src)], check=True)
     nb = nbformat.read(path, as_version=4)
-    client = Runner(nb, path.stem, timeout=timeout, kernel_name="python3",
+    nb.metadata.pop("widgets", None)     # this run's widgets only (nbclient adds them, if any)
+    client = Runner(nb, path.stem, timeout=timeout, kernel_name="python3", record_timing=False,
                     resources={"metadata": {"path": str(path.parent)}})
     t0 = time.perf_counter()
     ok = True
@@ -153,7 +277,7 @@ def run_one(path: Path, timeout: float, sync: bool = True, write: bool = True,
         print(f"FAIL {path.stem}: {type(exc).__name__}: "
               f"{_ANSI.sub('', str(exc)).strip()[-1500:]}", flush=True)
     if ok and write:
-        nbformat.write(nb, path)
+        nbformat.write(normalise(nb, path.stem), path)
     lost = client.lost[0]
     print(f"{'done' if ok else 'FAILED'} {path.stem}: {client.k} cells in "
           f"{time.perf_counter() - t0:.0f} s" + (f", {lost} lost wake-up(s) recovered" if lost
