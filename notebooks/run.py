@@ -28,7 +28,8 @@ drops what changes from run to run although the computation does not — each ce
 timestamps (``metadata.execution``, not recorded either) and the random ids ipywidgets gives its
 models, renamed ``sha256(notebook, k)`` by their order of first appearance (the cells' outputs,
 then the models they refer to, then the rest by content) the same in the views and in the
-stored widget state, so the stored widgets still render. Printed timings are a notebook's own
+stored widget state, so the stored widgets still render; so are the random element ids of an
+HTML output (matplotlib's jshtml animation, notebook 04). Printed timings are a notebook's own
 business (notebook 05 prints a checked bound, not its seconds).
 
 The last line is ``notebooks: N executed, F failed, W lost wake-ups recovered (T s)``; the exit status is 1 if
@@ -98,17 +99,66 @@ def _rename(obj, new: dict):
     return obj
 
 
+def _new_id(name: str, kind: str, k: int) -> str:
+    """The k-th id of its kind in notebook ``name``: 32 hex digits, shaped as a uuid4's."""
+    h = hashlib.sha256(f"{name}/{kind}{k}".encode()).hexdigest()[:32]
+    return h[:12] + "4" + h[13:16] + "8" + h[17:]
+
+
 def normalise(nb, name: str):
     """Make executed notebook ``nb`` (named ``name``) byte-stable from run to run, in place.
 
-    Drops every cell's ``metadata.execution`` (kernel timestamps) and renames the widget models:
-    the k-th model met — in the cells' outputs in order, then through the models' references to
-    other models, then the unreferenced rest sorted by a signature of their content — becomes
-    ``sha256(f"{name}/{k}")[:32]``, everywhere: view outputs (``model_id``), the notebook's
-    widget state (keys and ``IPY_MODEL_`` references), and widget views nested in an Output
-    widget's state. Idempotent; everything else is left as it is. Returns ``nb``."""
+    Drops every cell's ``metadata.execution`` (kernel timestamps), renames the widget models
+    (:func:`renumber_widgets`) and the random element ids of HTML and SVG outputs
+    (:func:`renumber_markup_ids`). Idempotent; everything else is left as it is. Returns ``nb``.
+    """
     for cell in nb.cells:
         cell.get("metadata", {}).pop("execution", None)
+    renumber_widgets(nb, name)
+    renumber_markup_ids(nb, name)
+    return nb
+
+
+#: a uuid4 in hex (matplotlib's jshtml animation names its elements with one, per call)
+UUID4_HEX = re.compile(r"(?<![0-9a-f])[0-9a-f]{12}4[0-9a-f]{3}[89ab][0-9a-f]{15}(?![0-9a-f])")
+MARKUP = ("text/html", "image/svg+xml")
+
+
+def renumber_markup_ids(nb, name: str):
+    """Rename every uuid4-shaped token of the HTML and SVG outputs (in the cells, and in the
+    Output widgets' stored state) by its order of first appearance, the same token alike
+    everywhere, so that an element and the script that finds it by id still agree."""
+    new: dict[str, str] = {}
+
+    def sub(text: str) -> str:
+        return UUID4_HEX.sub(lambda m: new.setdefault(m.group(0),
+                                                      _new_id(name, "markup", len(new))), text)
+
+    def walk(obj):
+        if isinstance(obj, dict):
+            for k in sorted(obj):
+                if k in MARKUP and isinstance(obj[k], str):
+                    obj[k] = sub(obj[k])
+                elif k in MARKUP and isinstance(obj[k], list):
+                    obj[k] = [sub(t) if isinstance(t, str) else t for t in obj[k]]
+                else:
+                    walk(obj[k])
+        elif isinstance(obj, list):
+            for v in obj:
+                walk(v)
+
+    for cell in nb.cells:
+        walk(cell.get("outputs", []))
+    walk(nb.get("metadata", {}).get("widgets", {}))
+    return nb
+
+
+def renumber_widgets(nb, name: str):
+    """Rename the widget models (ipywidgets gives each a fresh uuid4 per run): the k-th model met
+    — in the cells' outputs in order, then through the models' references to other models, then
+    the unreferenced rest sorted by a signature of their content — gets :func:`_new_id`
+    everywhere: view outputs (``model_id``), the notebook's widget state (keys and
+    ``IPY_MODEL_`` references), and widget views nested in an Output widget's state."""
     bundle = nb.get("metadata", {}).get("widgets", {}).get(WIDGET_STATE)
     state = bundle.get("state", {}) if bundle else {}
     known = set(state)
@@ -136,31 +186,41 @@ def normalise(nb, name: str):
 
     sigs: dict[str, str] = {}
 
-    def signature(mid: str, path=()) -> str:
-        """A model's content with each reference replaced by the referenced model's signature:
-        equal signatures are interchangeable subgraphs, whatever their ids."""
+    def signature(mid: str, path=()) -> tuple[str, bool]:
+        """A model's content with each reference replaced by the referenced model's signature
+        (equal signatures: interchangeable subgraphs, whatever their ids), and whether a cycle
+        was cut (then it depends on where the walk began, and is not kept)."""
         if mid in path:
-            return "<cycle>"
-        if mid not in sigs:
-            def sub(obj):
-                if isinstance(obj, str):
-                    ref = _model_id(obj, known)
-                    return obj if ref is None else "<" + signature(ref, path + (mid,)) + ">"
-                if isinstance(obj, dict):
-                    return {k: sub(v) for k, v in obj.items()}
-                if isinstance(obj, list):
-                    return [sub(v) for v in obj]
-                return obj
-            sigs[mid] = json.dumps(sub(state.get(mid)), sort_keys=True)
-        return sigs[mid]
+            return "<cycle>", True
+        if mid in sigs:
+            return sigs[mid], False
+        cut = False
+
+        def sub(obj):
+            nonlocal cut
+            if isinstance(obj, str):
+                ref = _model_id(obj, known)
+                if ref is None:
+                    return obj
+                sig, c = signature(ref, path + (mid,))
+                cut |= c
+                return "<" + sig + ">"
+            if isinstance(obj, dict):
+                return {k: sub(v) for k, v in obj.items()}
+            if isinstance(obj, list):
+                return [sub(v) for v in obj]
+            return obj
+        sig = json.dumps(sub(state.get(mid)), sort_keys=True)
+        if not cut:
+            sigs[mid] = sig
+        return sig, cut
 
     for cell in nb.cells:
         meet(cell.get("outputs", []))
-    for mid in sorted((m for m in state if m not in seen), key=signature):
+    for mid in sorted((m for m in state if m not in seen), key=lambda m: signature(m)[0]):
         if mid not in seen:
             meet([mid])
-    new = {mid: hashlib.sha256(f"{name}/{k}".encode()).hexdigest()[:32]
-           for k, mid in enumerate(order)}
+    new = {mid: _new_id(name, "widget", k) for k, mid in enumerate(order)}
     for cell in nb.cells:
         if "outputs" in cell:
             cell["outputs"] = nbformat.from_dict(_rename(cell["outputs"], new))

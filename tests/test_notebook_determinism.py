@@ -110,10 +110,42 @@ def test_every_id_is_renamed_consistently_in_views_and_state():
     assert all(re.fullmatch(r"[0-9a-f]{32}", k) for k in keys)
     # the first model met is the view in the cells' outputs; its children are numbered next
     view = nb.cells[2].outputs[0].data[VIEW]["model_id"]
-    assert view == run.hashlib.sha256(b"05_x/0").hexdigest()[:32]
+    assert view == run._new_id("05_x", "widget", 0)
     box = nb.metadata.widgets[STATE]["state"][view]["state"]
-    assert box["children"] == [f"IPY_MODEL_{run.hashlib.sha256(f'05_x/{k}'.encode()).hexdigest()[:32]}"
-                               for k in (1, 2)]
+    assert box["children"] == [f"IPY_MODEL_{run._new_id('05_x', 'widget', k)}" for k in (1, 2)]
+
+
+def animation(seed: int) -> dict:
+    """A notebook with matplotlib's jshtml animation output (its elements named by a fresh
+    uuid4 on every call) twice, and an SVG with one."""
+    a, b, c = (uuid.UUID(int=seed * 1000 + k, version=4).hex for k in range(3))
+    html = (f'<img id="_anim_img{a}">\n<input id="_anim_slider{a}" '
+            f'oninput="anim{a}.set_frame(parseInt(this.value));">\n'
+            f'<script>var anim{a} = new Animation(frames, "_anim_img{a}");</script>')
+    other = html.replace(a, b)
+    svg = f'<svg><clipPath id="p{c}"/><g clip-path="url(#p{c})"/></svg>'
+    outs = [{"output_type": "display_data", "metadata": {},
+             "data": {"text/html": t, "text/plain": "<HTML>"}} for t in (html, other)]
+    outs.append({"output_type": "display_data", "metadata": {},
+                 "data": {"image/svg+xml": svg, "text/plain": "<Figure>"}})
+    return nbformat.from_dict({
+        "cells": [{"cell_type": "code", "id": "c1", "execution_count": 1, "source": "HTML(…)",
+                   "metadata": {}, "outputs": outs}],
+        "metadata": {}, "nbformat": 4, "nbformat_minor": 5})
+
+
+def test_the_random_element_ids_of_html_and_svg_outputs_are_renamed_consistently():
+    a, b = animation(1), animation(2)
+    assert nbformat.writes(a) != nbformat.writes(b)
+    once = written(a, "04_x")
+    assert once == written(b, "04_x")
+    assert written(nbformat.reads(once, as_version=4), "04_x") == once
+    outs = nbformat.reads(once, as_version=4).cells[0].outputs
+    first, second = (run._new_id("04_x", "markup", k) for k in (0, 1))
+    assert outs[0].data["text/html"] == animation(1).cells[0].outputs[0].data["text/html"].replace(
+        uuid.UUID(int=1000, version=4).hex, first)
+    assert first not in outs[1].data["text/html"] and second in outs[1].data["text/html"]
+    assert outs[2].data["image/svg+xml"].count(run._new_id("04_x", "markup", 2)) == 2
 
 
 def test_ids_differ_between_notebooks():
