@@ -28,9 +28,9 @@ drops what changes from run to run although the computation does not — each ce
 timestamps (``metadata.execution``, not recorded either) and the random ids ipywidgets gives its
 models, renamed ``sha256(notebook, k)`` by their order of first appearance (the cells' outputs,
 then the models they refer to, then the rest by content) the same in the views and in the
-stored widget state, so the stored widgets still render; so are the random element ids of an
-HTML output (matplotlib's jshtml animation, notebook 04). Printed timings are a notebook's own
-business (notebook 05 prints a checked bound, not its seconds).
+stored widget state, so the stored widgets still render; the random element ids of an HTML
+or SVG output (matplotlib's jshtml animation, notebook 04) are renamed likewise. Printed
+timings are a notebook's own business (notebook 05 prints a checked bound, not its seconds).
 
 The last line is ``notebooks: N executed, F failed, W lost wake-ups recovered (T s)``; the exit status is 1 if
 any notebook failed.
