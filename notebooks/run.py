@@ -24,12 +24,13 @@ reported (``lost wake-ups``), never hidden; there is no retry.
 
 **Byte-stable output.** Run twice on one machine, a notebook is written back identical to the
 byte (so ``make reproduce`` on a fresh clone leaves ``git status`` clean): :func:`normalise`
-drops what changes from run to run although the computation does not — each cell's execution
-timestamps (``metadata.execution``, not recorded either) and the random ids ipywidgets gives its
-models, renamed ``sha256(notebook, k)`` by their order of first appearance (the cells' outputs,
-then the models they refer to, then the rest by content) the same in the views and in the
-stored widget state, so the stored widgets still render; the random element ids of an HTML
-or SVG output (matplotlib's jshtml animation, notebook 04) are renamed likewise. Printed
+removes what changes from run to run although the computation does not — each cell's
+execution timestamps (``metadata.execution``, not recorded either); where the kernel happened
+to cut a printed stream (consecutive stream outputs are joined); the random ids ipywidgets
+gives its models, renamed ``sha256(notebook, k)`` by their order of first appearance (the
+cells' outputs, then the models they refer to, then the rest by content) the same in the views
+and in the stored widget state, so the stored widgets still render; the random element ids of
+an HTML or SVG output (matplotlib's jshtml animation, notebook 04), renamed likewise. Printed
 timings are a notebook's own business (notebook 05 prints a checked bound, not its seconds).
 
 The last line is ``notebooks: N executed, F failed, W lost wake-ups recovered (T s)``; the exit status is 1 if
@@ -108,15 +109,40 @@ def _new_id(name: str, kind: str, k: int) -> str:
 def normalise(nb, name: str):
     """Make executed notebook ``nb`` (named ``name``) byte-stable from run to run, in place.
 
-    Drops every cell's ``metadata.execution`` (kernel timestamps), renames the widget models
-    (:func:`renumber_widgets`) and the random element ids of HTML and SVG outputs
-    (:func:`renumber_markup_ids`). Idempotent; everything else is left as it is. Returns ``nb``.
+    Drops every cell's ``metadata.execution`` (kernel timestamps), joins consecutive pieces of
+    one stream (:func:`coalesce_streams`: where the kernel cut its stdout depends on timing),
+    renames the widget models (:func:`renumber_widgets`) and the random element ids of HTML and
+    SVG outputs (:func:`renumber_markup_ids`). Idempotent; everything else is left as it is. Returns ``nb``.
     """
     for cell in nb.cells:
         cell.get("metadata", {}).pop("execution", None)
+        if "outputs" in cell:
+            cell["outputs"] = coalesce_streams(cell["outputs"])
+    for model in (nb.get("metadata", {}).get("widgets", {}).get(WIDGET_STATE, {})
+                  .get("state", {}).values()):
+        if isinstance(model.get("state", {}).get("outputs"), list):       # an Output widget's
+            model["state"]["outputs"] = coalesce_streams(model["state"]["outputs"])
     renumber_widgets(nb, name)
     renumber_markup_ids(nb, name)
     return nb
+
+
+def coalesce_streams(outputs: list) -> list:
+    """Consecutive stream outputs of one name (stdout, stderr) as one: the kernel sends a
+    printed line in one piece or two depending on when its output thread flushed (notebook 09
+    stored ``27.64 h`` and its newline apart on one run of two); as displayed, nothing changes."""
+    merged: list = []
+    for out in outputs:
+        if (merged and out.get("output_type") == "stream"
+                and merged[-1].get("output_type") == "stream"
+                and merged[-1].get("name") == out.get("name")):
+            prev = merged[-1]
+            join = ("".join if isinstance(prev["text"], list) else str)(prev["text"])
+            merged[-1] = nbformat.from_dict({**prev, "text": join + (
+                "".join(out["text"]) if isinstance(out["text"], list) else out["text"])})
+        else:
+            merged.append(out)
+    return merged
 
 
 #: a uuid4 in hex (matplotlib's jshtml animation names its elements with one, per call)

@@ -148,6 +148,24 @@ def test_the_random_element_ids_of_html_and_svg_outputs_are_renamed_consistently
     assert outs[2].data["image/svg+xml"].count(run._new_id("04_x", "markup", 2)) == 2
 
 
+def test_a_stream_cut_in_pieces_is_stored_whole():
+    """The kernel flushes stdout when its thread wakes: '27.64 h' and its newline came as two
+    outputs on one run of notebook 09, as one on the other."""
+    nb = executed(1)
+    whole = copy.deepcopy(nb)
+    nb.cells[1].outputs[0:1] = [nbformat.from_dict({"output_type": "stream", "name": "stdout",
+                                                    "text": t}) for t in ("1", "\n")]
+    nb.cells[1].outputs.insert(0, nbformat.from_dict({"output_type": "stream", "name": "stderr",
+                                                      "text": "warning: w\n"}))
+    whole.cells[1].outputs.insert(0, copy.deepcopy(nb.cells[1].outputs[0]))
+    out = nb.metadata.widgets[STATE]["state"][uuid.UUID(int=1002).hex]["state"]["outputs"]
+    out[1:2] = [{"output_type": "stream", "name": "stdout", "text": t} for t in ("x = ", "3\n")]
+    assert written(nb) == written(whole)
+    streams = [o for o in run.normalise(nb, "05_x").cells[1].outputs]
+    assert [(o.get("name"), o.get("text")) for o in streams] == [
+        ("stderr", "warning: w\n"), ("stdout", "1\n"), (None, None)]   # stderr stays apart
+
+
 def test_ids_differ_between_notebooks():
     _, a = refs(run.normalise(executed(1), "03_a"))
     _, b = refs(run.normalise(executed(1), "05_b"))
