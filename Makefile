@@ -42,7 +42,9 @@ nbval: $(STAMP)
 # Sync notebooks/src/*.py into the paired notebooks/*.ipynb (jupytext) and execute them in place
 # with the inline backend and the figure check, so outputs and figures are stored: all of them,
 # or NB="00 05" (name prefixes). One line per cell with its time; a stalled kernel is reported
-# (STALL, and counted on the last line), never silently retried. See notebooks/run.py.
+# (STALL, and counted on the last line), never silently retried. Two runs on one machine write
+# identical files (no timestamps; widget and HTML ids renumbered): re-running on a fresh clone
+# leaves the stored notebooks unchanged. See notebooks/run.py.
 NB ?=
 notebooks: $(STAMP)
 	env -u MPLBACKEND $(BIN)/python notebooks/run.py $(NB)
