@@ -896,7 +896,11 @@ def _run(command, args) -> int:
         try:
             return command(args)
         except ImunavError as exc:
-            print(f"imunav: error: {flagged(exc)}", file=sys.stderr)
+            message = flagged(exc)
+            path = getattr(args, "aiding", None)      # an AIDING.toml's table: name the file
+            if exc.argument == "aiding" and isinstance(path, str) and path not in message:
+                message = f"{path}: {message}"
+            print(f"imunav: error: {message}", file=sys.stderr)
             return 2
         except BrokenPipeError:                              # `imunav … | head`: not an error
             try:

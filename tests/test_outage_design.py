@@ -179,3 +179,69 @@ def test_a_gain_error_beyond_the_small_error_model_is_flagged(adis):
     acc = limits["accel.misalignment"]
     assert acc["limit_si"] > O.GAIN_VALID and "small-error model" in acc["note"]
     assert limits["gyro.noise_density"]["note"] is None
+
+
+def test_limit_words_agree_between_text_and_json(adis):
+    """A newcomer read 'none' in the table where the JSON said '0 deg/h', and 'unbounded' in
+    the table where the JSON said 'none': one word per meaning, in both."""
+    imu, at, _ = adis
+    zero = O.term_limits(at, 0.5, [OUTAGE])                 # far below what any term allows
+    big = O.term_limits(at, 1e9, [OUTAGE])                  # far above the whole error
+    z = zero["gyro.noise_density"]
+    assert z["limit_si"] == 0.0 and z["limit"].startswith("0 ")
+    u = big["gyro.noise_density"]
+    assert u["limit_si"] is None and u["limit"] == "unbounded"
+    r = {"motion": "m", "imu": imu.name, "rate_hz": RATE, "tolerance_m": 0.5, "aiding": ["gnss"],
+         "terms": {"gyro.noise_density": z, "accel.noise_density": big["accel.noise_density"]},
+         "warnings": []}
+    text = O.format_outage_design(r)
+    row = [ln for ln in text.splitlines() if "gyro.noise_density" in ln][0]
+    assert " none " not in row and "0 °/√h" in row                  # the printed spelling
+    row = [ln for ln in text.splitlines() if "accel.noise_density" in ln][0]
+    assert "unbounded" in row and "µg/√Hz" in row
+
+
+def test_an_outage_start_with_no_fix_after_it_is_refused(tmp_path, capsys):
+    """`--outage-start 19.5` on a 20 s record with 1 Hz fixes ran 'max_outage_s = 0 s … the
+    whole rest of the motion' and exit 0; and it is refused before the term limits' passes."""
+    (tmp_path / "m.toml").write_text(MOTION)
+    (tmp_path / "a.toml").write_text(AIDING.replace("outages = [[20, 28]]\n", ""))
+    code = main(["design", str(tmp_path / "m.toml"), "--imu", "ADIS16470", "--rate", "20",
+                 "--tolerance", "8", "--aiding", str(tmp_path / "a.toml"), "--find", "outage",
+                 "--outage-start", "39.5", "--json", str(tmp_path / "d.json")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1
+    assert "--outage-start" in err and "no GNSS fix after it" in err
+    assert not (tmp_path / "d.json").exists()
+
+
+def test_outages_that_cover_every_fix_are_said_and_design_outages_carry_within(tmp_path):
+    """`outages = [[0, 20]]` on a 20 s record passed as 'GNSS outage 0–20 s … within the
+    tolerance' with no word that GNSS never helped; design's outages lacked assess'
+    `within_tolerance`."""
+    (tmp_path / "m.toml").write_text(MOTION)
+    end = float(load_motion(tmp_path / "m.toml")[0].duration)
+    (tmp_path / "a.toml").write_text(AIDING.replace("[[20, 28]]", f"[[0, {end:g}]]"))
+    assert main(["design", str(tmp_path / "m.toml"), "--imu", "ADIS16470", "--rate", "20",
+                 "--tolerance", "50", "--aiding", str(tmp_path / "a.toml"), "--json",
+                 str(tmp_path / "d.json")]) == 0
+    r = json.loads((tmp_path / "d.json").read_text())
+    assert any("cover every fix" in w for w in r["warnings"])
+    assert all("within_tolerance" in o for o in r["outages"])
+    assert main(["assess", str(tmp_path / "m.toml"), "--imu", "ADIS16470", "--rate", "20",
+                 "--tolerance", "50", "--aiding", str(tmp_path / "a.toml"), "--json",
+                 str(tmp_path / "s.json")]) == 0
+    assert any("cover every fix" in w for w in json.loads((tmp_path / "s.json").read_text())
+               ["warnings"])
+
+
+def test_an_aid_faster_than_the_imu_is_refused(tmp_path, capsys):
+    """`[gnss] rate = 25` beside a 20 Hz IMU ran (exit 0, a better p95 from readings the filter
+    cannot take one by one); 40 Hz gave a message about 'node 0' without the key."""
+    (tmp_path / "m.toml").write_text(MOTION)
+    (tmp_path / "a.toml").write_text(AIDING.replace("rate = 1\n", "rate = 25\n"))
+    code = main(["assess", str(tmp_path / "m.toml"), "--imu", "ADIS16470", "--rate", "20",
+                 "--tolerance", "8", "--aiding", str(tmp_path / "a.toml")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1
+    assert "[gnss] rate = 25 Hz is above the IMU rate of 20 Hz" in err and "a.toml" in err

@@ -21,7 +21,7 @@ from imunav.estimation.error_model import LazyTrajectory
 from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import ImuModel
 from imunav.sensors.presets import PRESETS
-from imunav.sensors.terms import TERMS
+from imunav.sensors.terms import TERMS, printed
 
 __all__ = ["design", "format_design", "in_datasheet_units"]
 
@@ -45,15 +45,6 @@ def in_datasheet_units(term: str, si: float, *, typographic: bool = False) -> st
     """
     triad, _, name = term.partition(".")
     return TERMS[name].show(si, triad, typographic=typographic)
-
-
-def _printed(term: str, text: str) -> str:
-    """A datasheet value of the JSON (``"0.12 deg/sqrt(h)"``) with its unit as printed
-    (``"0.12 °/√h"``); a text in another unit is left as it is."""
-    triad, _, name = term.partition(".")
-    value, _, unit = text.partition(" ")
-    shown = TERMS[name].display.get(triad) if name in TERMS else None
-    return f"{value} {shown[1]}" if shown and unit == shown[0] else text
 
 
 def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
@@ -182,8 +173,8 @@ def format_design(r: dict) -> str:
                      f"{r['alignment']['window_s']:g} s before the motion (heading given).")
     lines.append("  Largest value of each term that alone stays within the tolerance:")
     for k, v in sorted(r["terms"].items()):
-        lines.append(f"    {k:24s} {_printed(k, v['limit']):>22s}   "
-                     f"(this IMU: {_printed(k, v['base'])})")
+        lines.append(f"    {k:24s} {printed(k, v['limit']):>22s}   "
+                     f"(this IMU: {printed(k, v['base'])})")
     cs = r["common_scale"]
     lines.append("  All terms together: " + ("no error term" if cs is None else
                  f"within the tolerance up to {cs:.3g} × this IMU's values"

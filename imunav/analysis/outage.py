@@ -45,12 +45,12 @@ from imunav.sensors.models import ImuModel, measure
 from imunav.sensors.presets import PRESETS
 from imunav.sensors.signals import ImuSignals
 from imunav.sensors.simulate import interval_count, simulate_imu
-from imunav.sensors.terms import TERMS
+from imunav.sensors.terms import TERMS, printed
 
 __all__ = ["AidedMonteCarlo", "aided_covariance", "aided_monte_carlo", "assess_aided",
            "bridgeable_outages", "common_scale", "design_aided", "find_outage",
-           "format_aided_verdict", "format_outage_design", "outage_budget", "outage_p95",
-           "rank_presets", "term_limits"]
+           "format_aided_verdict", "format_outage_design", "no_fix_warnings", "outage_budget",
+           "outage_p95", "rank_presets", "term_limits"]
 
 #: The percentile of the verdicts.
 P95 = 0.95
@@ -106,6 +106,41 @@ def aided_covariance(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, ra
 
 def _gnss_times(at: AlongTruth) -> FloatArray:
     return np.array([r.t for rs in at.readings for r in rs if r.sensor == "gnss"])
+
+
+def _check_start(tg: FloatArray, start: float, end: float, dt: float) -> None:
+    """Refuse an outage start that leaves no room for an outage of one GNSS interval before
+    the record's ``end`` and a fix after it (the search would report 0 s as "the rest of the
+    motion")."""
+    if not 0 <= start < end:
+        raise ImunavError(f"outage_start must be in [0, {end:g}) s, got {start:g}",
+                          argument="outage_start")
+    if start > end - dt + 1e-9 or not np.any(tg > start + 1e-9):
+        raise ImunavError(f"outage_start = {start:g} s leaves no GNSS fix after it to end an "
+                          f"outage of one GNSS interval ({dt:g} s); expected a start at most "
+                          f"{end - dt:g} s (the record ends at {end:g} s)",
+                          argument="outage_start")
+
+
+def no_fix_warnings(at: AlongTruth, outages: list[tuple[float, float]]) -> list[str]:
+    """A warning when the GNSS outages leave no fix in the record (an aided answer that is
+    then the other aids' alone, which a reader of "GNSS outage 0–20 s" would not guess).
+
+    Parameters
+    ----------
+    at : AlongTruth
+    outages : list of (float, float)
+
+    Returns
+    -------
+    list of str
+        Empty, or the one warning.
+    """
+    tg = _gnss_times(at)
+    if tg.size and not _active(at, [outages])[0].any():
+        return ["the GNSS outages cover every fix of the record: GNSS helps nowhere, the "
+                "answer is that of the other aids alone"]
+    return []
 
 
 def _active(at: AlongTruth, outages: list[list[tuple[float, float]]]) -> np.ndarray:
@@ -423,7 +458,7 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
                           terms=budget)
     outs = _file_outages(aiding)
     t, truth, filt, per, att = _outage_pass(at, outs)
-    warnings = list(at.warnings)
+    warnings = list(at.warnings) + no_fix_warnings(at, outs)
     if att.max() > ATTITUDE_VALID:
         i = int(np.argmax(att))
         warnings.append(f"the attitude error reaches a p95 of {att[i]:.3g} rad at t = "
@@ -618,6 +653,7 @@ def find_outage(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: f
         if not 0 <= start < T:
             raise ImunavError(f"outage_start must be in [0, {T:g}) s, got {start:g}",
                               argument="outage_start")
+        _check_start(tg, start, T, dt)
         cand = np.array([float(start)])
     else:
         lo_s = min(settle, T / 4)
@@ -910,11 +946,11 @@ def term_limits(at: AlongTruth, tolerance: float, outages, *, retune: bool = Tru
         lim = None if not np.isfinite(k) else value * k
         fix = None if not np.isfinite(k_fix) else value * k_fix
         out[term] = {"limit_si": lim,
-                     "limit": "none" if lim is None else _show(term, lim),
+                     "limit": "unbounded" if lim is None else _show(term, lim),
                      "base": _show(term, value),
                      "max_p95_at_limit_m": p if np.isfinite(p) else None,
                      "limit_base_tuning_si": fix,
-                     "limit_base_tuning": "none" if fix is None else _show(term, fix),
+                     "limit_base_tuning": "unbounded" if fix is None else _show(term, fix),
                      "note": note}
     return out
 
@@ -1025,8 +1061,14 @@ def design_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
     at = aided_covariance(motion, imu, aiding, rate, duration, kind=kind,
                           covariance_step=covariance_step, algorithm=algorithm, g=g,
                           terms=True)
+    if find == "outage" and outage_start is not None and aiding.gnss is not None:
+        # before the term limits' passes
+        _check_start(_gnss_times(at), float(outage_start), float(at.t[-1]),
+                     1.0 / aiding.gnss.rate)
     outs = _file_outages(aiding)
     t, truth, _, per = outage_p95(at, outs)
+    for o in per:
+        o["within_tolerance"] = bool(o["position_p95_max_m"] <= tolerance)
     worst = int(np.argmax(truth))
     r: dict = {"motion": motion.name, "imu": imu.name, "rate_hz": float(rate),
                "tolerance_m": tolerance, "aiding": list(aiding.sensors),
@@ -1037,7 +1079,7 @@ def design_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
                "common_scale": common_scale(at, tolerance, outs)}
     r["error_budget_at_s"] = float(t[worst])
     r["error_budget"] = outage_budget(at, outs, float(t[worst]))
-    warnings = list(at.warnings)
+    warnings = list(at.warnings) + no_fix_warnings(at, outs)
     if find == "outage":
         f = find_outage(motion, imu, aiding, rate, tolerance, duration, start=outage_start,
                         at=at)
@@ -1081,12 +1123,12 @@ def format_outage_design(r: dict) -> str:
                         "filter at this IMU's tuning):" if retuned
                         else "the filter kept at this IMU's tuning):"))
         for k, v in sorted(r["terms"].items()):
-            lim = ("unbounded" if v["limit_si"] is None else
-                   v["limit"] if v["limit_si"] > 0 else "none")
-            extra = (f"; filter kept: {v['limit_base_tuning']}" if retuned and
+            lim = printed(k, v["limit"])                  # "0 °/h": none of it is allowed
+            extra = (f"; filter kept: {printed(k, v['limit_base_tuning'])}" if retuned and
                      v.get("limit_base_tuning_si") else "")
             note = f" — {v['note']}" if v.get("note") else ""
-            lines.append(f"    {k:24s} {lim:>22s}   (this IMU: {v['base']}{extra}){note}")
+            lines.append(f"    {k:24s} {lim:>22s}   (this IMU: {printed(k, v['base'])}{extra})"
+                         f"{note}")
     if r.get("common_scale") is not None:
         cs = r["common_scale"]
         if cs > 0:

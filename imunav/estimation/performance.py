@@ -298,6 +298,12 @@ class AlongTruth:
         N = self.N = interval_count(rate, duration)
         self.duration = N * h
         algo = resolve(kind, algorithm)
+        for name in SENSOR_ORDER:                # readings faster than the IMU's samples
+            r_aid = getattr(getattr(aiding, name, None), "rate", None)
+            if r_aid is not None and r_aid > rate * (1 + 1e-12):
+                raise ImunavError(f"[{name}] rate = {r_aid:g} Hz is above the IMU rate of "
+                                  f"{rate:g} Hz: expected at most {rate:g} Hz (the filter "
+                                  "updates at IMU samples)", argument="aiding")
         times, gnss_outage, self.warnings = reading_times(aiding, motion, rate, N * h)
         # ---------------------------------------------------------------- epochs
         sched: dict[int, list] = {}

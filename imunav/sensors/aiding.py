@@ -262,7 +262,7 @@ class GnssConfig:
         for i, (t0, t1) in enumerate(self.outages):
             if t0 >= end or t1 <= start:
                 raise ImunavError(f"[gnss] outages[{i}] = [{t0:g}, {t1:g}] s lies outside the "
-                                  f"record ({start:g} … {end:g} s)")
+                                  f"record ({start:g} … {end:g} s)", argument="aiding")
 
     def in_outage(self, t: FloatArray) -> np.ndarray:
         """Whether each time lies in an outage.

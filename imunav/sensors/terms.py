@@ -71,7 +71,8 @@ from imunav.sensors.allan import gauss_markov_allan_variance
 
 __all__ = ["DRAW_ORDER", "STAGES", "TERMS", "TRIADS", "LinearisationContext", "Parameter",
            "SensorErrorStates", "Term", "aliasing_gain", "bias_instability_sigma",
-           "flicker_bank", "parameters", "parse", "register", "terms_for", "unregister"]
+           "flicker_bank", "parameters", "parse", "printed", "register", "terms_for",
+           "unregister"]
 
 #: The two triads of a 6-axis IMU.
 TRIADS = ("gyro", "accel")
@@ -882,3 +883,24 @@ def parse(value, key: str) -> float:
 #: products along an analysis stay finite).
 MAX_VALUE = 1e9
 
+
+def printed(term: str, text: str) -> str:
+    """A datasheet value as spelt in files and JSON (``"0.12 deg/sqrt(h)"``) with its unit as
+    printed for people (``"0.12 °/√h"``), the one spelling of every report; a text in another
+    unit (or a word such as ``"unbounded"``) is returned unchanged.
+
+    Parameters
+    ----------
+    term : str
+        ``"<triad>.<term>"``, e.g. ``"gyro.noise_density"``.
+    text : str
+        ``"<value> <unit>"``.
+
+    Returns
+    -------
+    str
+    """
+    triad, _, name = term.partition(".")
+    value, _, unit = text.partition(" ")
+    shown = TERMS[name].display.get(triad) if name in TERMS else None
+    return f"{value} {shown[1]}" if shown and unit == shown[0] else text
