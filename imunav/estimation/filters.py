@@ -124,11 +124,47 @@ from imunav.strapdown.earth import EarthIntegrator
 from imunav.strapdown.registry import resolve
 
 __all__ = ["SD_COLUMNS", "AidedSystem", "FilterResult", "Innovations", "StepBlocks",
-           "build_measurements", "nav_sd", "run_filter"]
+           "build_measurements", "nav_sd", "predict_blocks", "run_filter"]
 
 #: The standard-deviation columns of the filter's output, in order (m, m/s, rad).
 SD_COLUMNS = ("sd_pn", "sd_pe", "sd_pd", "sd_vn", "sd_ve", "sd_vd", "sd_roll", "sd_pitch",
               "sd_yaw")
+
+
+def predict_blocks(P: FloatArray, F: FloatArray, G: FloatArray, E: FloatArray,
+                   Qnn: FloatArray, Qns: FloatArray, qss: FloatArray) -> FloatArray:
+    """``Φ P Φᵀ + Q_d`` with ``Φ = [[F, G], [0, diag(E)]]`` and ``Q_d`` in the blocks of
+    :class:`StepBlocks` — one step of the filter (:meth:`AidedSystem.predict_step`) or a batch
+    ``P`` (…, n, n) of the covariance analysis, whose blocks broadcast per row.
+
+    Parameters
+    ----------
+    P : ndarray, shape (..., n, n)
+    F : ndarray, shape (9, 9)
+    G : ndarray, shape (9, n − 9)
+    E : ndarray, shape (n − 9,)
+    Qnn, Qns, qss : ndarray
+        ``Q_d``'s navigation block, navigation–sensor block and sensor diagonal (broadcast
+        against ``P``'s blocks).
+
+    Returns
+    -------
+    ndarray, shape of ``P``
+    """
+    k = NAV
+    Pnn, Pns, Pss = P[..., :k, :k], P[..., :k, k:], P[..., k:, k:]
+    X = F @ Pns + G @ Pss
+    Y = F @ Pnn + G @ np.swapaxes(Pns, -1, -2)
+    nn = Y @ F.T + X @ G.T
+    out = np.empty_like(P)
+    out[..., :k, :k] = 0.5 * (nn + np.swapaxes(nn, -1, -2)) + Qnn
+    out[..., :k, k:] = X * E + Qns
+    out[..., k:, :k] = np.swapaxes(out[..., :k, k:], -1, -2)
+    ss = Pss * (E[:, None] * E[None, :])
+    m = E.size
+    ss[..., range(m), range(m)] += qss
+    out[..., k:, k:] = ss
+    return out
 
 
 @dataclass
@@ -475,19 +511,7 @@ class AidedSystem:
         if self.n == k:
             out = F @ P @ F.T + st.Qnn[i]
             return 0.5 * (out + out.T)
-        G, E = st.G[i], st.E[i]
-        Pnn, Pns, Pss = P[:k, :k], P[:k, k:], P[k:, k:]
-        X = F @ Pns + G @ Pss                                   # (9, m)
-        Y = F @ Pnn + G @ Pns.T                                 # (9, 9)
-        out = np.empty_like(P)
-        nn = Y @ F.T + X @ G.T
-        out[:k, :k] = 0.5 * (nn + nn.T) + st.Qnn[i]
-        out[:k, k:] = X * E + st.Qns[i]
-        out[k:, :k] = out[:k, k:].T
-        ss = Pss * np.outer(E, E)
-        ss.flat[::ss.shape[0] + 1] += st.qss
-        out[k:, k:] = ss
-        return out
+        return predict_blocks(P, F, st.G[i], st.E[i], st.Qnn[i], st.Qns[i], st.qss)
 
     def triad_input(self, triad: str, u: FloatArray, f: FloatArray) -> FloatArray:
         """How the sensor states enter ``triad``'s error: ``δu = M x`` with ``M`` (N, 3, n).

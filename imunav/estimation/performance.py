@@ -63,7 +63,7 @@ from imunav.core.kernels import FloatArray
 from imunav.core.resources import check_memory
 from imunav.core.validation import ImunavError, check_positive
 from imunav.estimation.error_model import NAV, TRIAD_ROWS, Trajectory, linearise
-from imunav.estimation.filters import AidedSystem, build_measurements
+from imunav.estimation.filters import AidedSystem, build_measurements, predict_blocks
 from imunav.estimation.measurements import GnssFix, Measurement, NavPoint
 from imunav.motion.base import BaseMotion
 from imunav.sensors.aiding import AidingConfig, true_stance
@@ -593,7 +593,7 @@ class AlongTruth:
                 add[:, sl.start - k:sl.stop - k] = W[:, j, None] * self.Qaid[e, sl.start - k:
                                                                               sl.stop - k]
                 Qss = Qss + add
-            P = _predict(P, F, G, D, Qnn, Qns, Qss)
+            P = predict_blocks(P, F, G, D, Qnn, Qns, Qss)
             slot = e + 1 - start if keep else 0
             record(slot, True)
             for r in self.readings[e + 1]:
@@ -608,25 +608,6 @@ class AlongTruth:
             record(slot, False)
         return PassResult(self.t[start:stop + 1] if keep else self.t[stop:stop + 1],
                           fp, fq, tp, tq, P)
-
-
-def _predict(P, F, G, D, Qnn, Qns, Qss):
-    """``Φ P Φᵀ + Q_d`` for a batch ``P`` (…, n, n) with ``Φ = [[F, G], [0, diag(D)]]`` and
-    ``Q_d`` in blocks (per row of the batch's second axis)."""
-    k = NAV
-    Pnn, Pns, Pss = P[..., :k, :k], P[..., :k, k:], P[..., k:, k:]
-    X = F @ Pns + G @ Pss
-    Y = F @ Pnn + G @ np.swapaxes(Pns, -1, -2)
-    nn = Y @ F.T + X @ G.T
-    out = np.empty_like(P)
-    out[..., :k, :k] = 0.5 * (nn + np.swapaxes(nn, -1, -2)) + Qnn
-    out[..., :k, k:] = X * D + Qns
-    out[..., k:, :k] = np.swapaxes(out[..., :k, k:], -1, -2)
-    ss = Pss * (D[:, None] * D[None, :])
-    m = D.size
-    ss[..., range(m), range(m)] += Qss
-    out[..., k:, k:] = ss
-    return out
 
 
 def _update(P, r: Reading, active, r_scale):
