@@ -49,8 +49,8 @@ from imunav.sensors.terms import TERMS, printed
 
 __all__ = ["AidedMonteCarlo", "aided_covariance", "aided_monte_carlo", "assess_aided",
            "bridgeable_outages", "common_scale", "design_aided", "find_outage",
-           "format_aided_verdict", "format_outage_design", "no_fix_warnings", "outage_budget",
-           "outage_p95", "rank_presets", "term_limits"]
+           "format_aided_verdict", "format_outage_design", "outage_budget", "outage_p95",
+           "rank_presets", "term_limits"]
 
 #: The percentile of the verdicts.
 P95 = 0.95
@@ -109,9 +109,9 @@ def _gnss_times(at: AlongTruth) -> FloatArray:
 
 
 def _check_start(tg: FloatArray, start: float, end: float, dt: float) -> None:
-    """Refuse an outage start that leaves no room for an outage of one GNSS interval before
-    the record's ``end`` and a fix after it (the search would report 0 s as "the rest of the
-    motion")."""
+    """Refuse an outage start outside ``[0, end)``, or one that leaves no room for an outage of
+    one GNSS interval before the record's ``end`` and a fix after it (the search would report
+    0 s as "the rest of the motion")."""
     if not 0 <= start < end:
         raise ImunavError(f"outage_start must be in [0, {end:g}) s, got {start:g}",
                           argument="outage_start")
@@ -122,7 +122,7 @@ def _check_start(tg: FloatArray, start: float, end: float, dt: float) -> None:
                           argument="outage_start")
 
 
-def no_fix_warnings(at: AlongTruth, outages: list[tuple[float, float]]) -> list[str]:
+def _no_fix_warnings(at: AlongTruth, outages: list[tuple[float, float]]) -> list[str]:
     """A warning when the GNSS outages leave no fix in the record (an aided answer that is
     then the other aids' alone, which a reader of "GNSS outage 0–20 s" would not guess).
 
@@ -458,7 +458,7 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
                           terms=budget)
     outs = _file_outages(aiding)
     t, truth, filt, per, att = _outage_pass(at, outs)
-    warnings = list(at.warnings) + no_fix_warnings(at, outs)
+    warnings = list(at.warnings) + _no_fix_warnings(at, outs)
     if att.max() > ATTITUDE_VALID:
         i = int(np.argmax(att))
         warnings.append(f"the attitude error reaches a p95 of {att[i]:.3g} rad at t = "
@@ -650,9 +650,6 @@ def find_outage(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: f
     dt = 1.0 / aiding.gnss.rate
     tg = _gnss_times(at)
     if start is not None:
-        if not 0 <= start < T:
-            raise ImunavError(f"outage_start must be in [0, {T:g}) s, got {start:g}",
-                              argument="outage_start")
         _check_start(tg, start, T, dt)
         cand = np.array([float(start)])
     else:
@@ -1079,7 +1076,7 @@ def design_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
                "common_scale": common_scale(at, tolerance, outs)}
     r["error_budget_at_s"] = float(t[worst])
     r["error_budget"] = outage_budget(at, outs, float(t[worst]))
-    warnings = list(at.warnings) + no_fix_warnings(at, outs)
+    warnings = list(at.warnings) + _no_fix_warnings(at, outs)
     if find == "outage":
         f = find_outage(motion, imu, aiding, rate, tolerance, duration, start=outage_start,
                         at=at)
