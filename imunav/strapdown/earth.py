@@ -49,7 +49,7 @@ from functools import cache
 
 import numpy as np
 
-from imunav.core.kernels import FloatArray, cross, quat_conj, quat_mul, quat_rotate
+from imunav.core.kernels import FloatArray, cross, quat_mul
 from imunav.core.threads import limit_blas
 from imunav.core.validation import ImunavError
 from imunav.earth import (
@@ -62,7 +62,6 @@ from imunav.earth import (
     geodetic_kernel,
     geodetic_to_ecef,
     gravitation_ecef,
-    gravitation_gradient,
     gravitation_kernel,
     quat_ned_to_ecef,
 )
@@ -154,14 +153,83 @@ def _matvec(MT: FloatArray, x: FloatArray) -> FloatArray:
     return (x[..., None, :] @ MT)[..., 0, :]
 
 
-def _rot_z(x: FloatArray, c: FloatArray, s: FloatArray) -> FloatArray:
-    """``R_z(α) x`` for vectors ``x`` (..., 3) and ``c = cos α``, ``s = sin α`` broadcast to
-    ``x.shape[:-1]``."""
+def _rot_z(x: FloatArray, c: FloatArray, s: FloatArray, inverse: bool = False) -> FloatArray:
+    """``R_z(α) x`` (``inverse``: ``R_z(−α) x``) for vectors ``x`` (..., 3) and ``c = cos α``,
+    ``s = sin α`` broadcast to ``x.shape[:-1]``."""
     out = np.empty_like(x)
-    out[..., 0] = c * x[..., 0] - s * x[..., 1]
-    out[..., 1] = s * x[..., 0] + c * x[..., 1]
+    x0, x1 = x[..., 0], x[..., 1]
+    if inverse:
+        np.multiply(c, x0, out=out[..., 0])
+        out[..., 0] += s * x1
+        np.multiply(c, x1, out=out[..., 1])
+        out[..., 1] -= s * x0
+    else:
+        np.multiply(c, x0, out=out[..., 0])
+        out[..., 0] -= s * x1
+        np.multiply(c, x1, out=out[..., 1])
+        out[..., 1] += s * x0
     out[..., 2] = x[..., 2]
     return out
+
+
+def _turn(ang: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """``cos α``, ``sin α`` of the Earth's turn within a block: by their series when
+    ``|α| ≤ 3e-3`` (every block of :data:`BLOCK_SECONDS`; the first terms left out, α⁶/720 and
+    α⁷/5040, are below 1e-18), else by ``np.cos``/``np.sin``."""
+    if ang.size and float(np.abs(ang).max()) > 3e-3:
+        return np.cos(ang), np.sin(ang)
+    a2 = ang * ang
+    c = a2 * (1.0 / 24.0)
+    c -= 0.5
+    c *= a2
+    c += 1.0
+    s = a2 * (1.0 / 120.0)
+    s -= 1.0 / 6.0
+    s *= a2
+    s += 1.0
+    s *= ang
+    return c, s
+
+
+def _poly(powers: FloatArray, coef: FloatArray, like: FloatArray) -> FloatArray:
+    """``Σ_j powers[:, j] coef[j]`` for per-node powers (n, k) and vector coefficients (k, [R,]
+    3): one BLAS product, shaped as ``like`` (n, [R,] 3) (a broadcast multiply-add of an (n, 1)
+    column by a vector costs ~10 ns a node in numpy)."""
+    return (powers @ coef.reshape(coef.shape[0], -1)).reshape(like.shape)
+
+
+def _trapezoid(e: FloatArray, h: float) -> tuple[FloatArray, FloatArray]:
+    """Velocity ``V_k`` and displacement ``D_k`` of :meth:`EarthIntegrator._displacement` for
+    the trapezoid rule (``I_j = h (e_{j−1} + e_j)/2``, ``II_j = h² (e_{j−1}/3 + e_j/6)``,
+    ``e_{−1} = 0``) in closed form: with ``S = Σ e`` and ``SS = Σ S``,
+    ``V = h (S − e/2)`` and ``D = h² (SS − S + e/6)``."""
+    S = np.cumsum(e, axis=0)
+    SS = np.cumsum(S, axis=0)
+    V = S * h
+    V -= e * (0.5 * h)
+    SS -= S
+    SS += e * (1.0 / 6.0)
+    SS *= h * h
+    return V, SS
+
+
+#: The points of the central differences of :func:`_gradient_t`: ±GRADIENT_STEP along x, y, z.
+_STEPS = np.repeat(np.eye(3), 2, axis=0) * np.tile([GRADIENT_STEP, -GRADIENT_STEP], 3)[:, None]
+
+
+def _gradient_t(r: FloatArray) -> FloatArray:
+    """``(∂G/∂r)ᵀ`` at ``r`` ([R,] 3): :func:`imunav.earth.gravitation_gradient` with steps of
+    :data:`GRADIENT_STEP`, unchecked and transposed (the same differences, to the bit; what
+    :func:`_matvec` takes), for the once-a-block call where the checks cost more than the
+    differences."""
+    pts = r[..., None, :] + _STEPS
+    sl, _, hh, c = geodetic_kernel(pts)
+    G = gravitation_kernel(pts, sl, hh, c)
+    return (G[..., 0::2, :] - G[..., 1::2, :]) / (2.0 * GRADIENT_STEP)
+
+
+#: The generator of a turn about the Earth's axis (R_z(α) ≈ I + α Z).
+_Z = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
 
 
 def _expand(a: FloatArray, like: FloatArray) -> FloatArray:
@@ -266,8 +334,8 @@ class EarthIntegrator:
 
     # ------------------------------------------------------------------------------ advance
     @limit_blas
-    def advance(self, q_ib: FloatArray, vT: FloatArray, pT: FloatArray
-                ) -> tuple[FloatArray, FloatArray, FloatArray]:
+    def advance(self, q_ib: FloatArray, vT: FloatArray, pT: FloatArray,
+                g0: FloatArray | None = None) -> tuple[FloatArray, FloatArray, FloatArray]:
         """Integrate ``n`` more steps.
 
         Parameters
@@ -275,7 +343,13 @@ class EarthIntegrator:
         q_ib : ndarray, shape (n + 1, [R,] 4)
             The body-frame algorithm's attitudes from :attr:`q_ib` (node 0 is the current one).
         vT, pT : ndarray, shape (n + 1, [R,] 3)
-            Its velocities and positions with ``g = 0`` from zero velocity and position.
+            Its velocities and positions from zero velocity and position, with the constant
+            inertial gravity ``g0`` (the thrust parts plus ``g0 t`` and ``g0 t²/2``: taken out
+            here exactly, block by block).
+        g0 : ndarray, shape ([R,] 3), optional
+            That gravity (m/s²); default zero. The driver passes the gravitation at the
+            current position (the last of :attr:`hist`): the sums then stay near the change
+            of gravity over the piece, ~0.3 m/s² over 10 minutes, and their rounding with them.
 
         Returns
         -------
@@ -287,45 +361,67 @@ class EarthIntegrator:
             return (np.empty((0,) + q_ib.shape[1:]), np.empty((0,) + vT.shape[1:]),
                     np.empty((0,) + vT.shape[1:]))
         per = max(1, int(BLOCK_SECONDS / self.h))
-        q = np.empty((n,) + q_ib.shape[1:])
+        # the blocks' inertial states and evaluation points, converted to the local frame
+        # at once at the end (one pass over the call instead of one per block)
         v = np.empty((n,) + vT.shape[1:])
-        p = np.empty_like(v)
+        r = np.empty_like(v)
+        r1 = np.empty_like(v)
+        geo = tuple(np.empty((n,) + vT.shape[1:-1]) for _ in range(4))
+        ang = np.empty(n)
+        g0 = np.zeros(vT.shape[1:]) if g0 is None else np.broadcast_to(g0, vT.shape[1:])
         for lo in range(0, n, per):
             hi = min(n, lo + per)
-            q[lo:hi], v[lo:hi], p[lo:hi] = self._block(q_ib[lo + 1: hi + 1], vT, pT, lo, hi)
+            self._block(vT, pT, g0, lo, hi, (v, r, r1, geo, ang))
         self.q_ib = q_ib[-1].copy()
-        return q, v, p
+        return self._local(q_ib[1:], v, r, r1, geo, ang)
 
-    def _block(self, q_ib, vT, pT, lo, hi):
-        """Nodes ``lo+1 … hi`` of this call by the fixed-point iteration; the states there."""
+    def _block(self, vT, pT, g0, lo, hi, out):
+        """Nodes ``lo+1 … hi`` of this call by the fixed-point iteration; their inertial
+        velocities and positions, the evaluation points and their geodetic coordinates, and
+        the Earth's turn into ``out[i][lo:hi]`` (the arrays of :meth:`advance`)."""
         h = self.h
         n = hi - lo
         tau = np.arange(1, n + 1) * h                         # time since the block's start
         like = vT[lo + 1: hi + 1]
-        tt = _expand(tau, like)[..., None]
         rb, vb = self.r, self.v
-        # the block's thrust, relative to its start (the chunk's sums are large: difference),
-        # and the path without gravity from the block's start
-        dv = like - vT[lo]
-        free_r = pT[lo + 1: hi + 1] - pT[lo]
-        free_r += tt * (vb - vT[lo])
-        free_r += rb
+        # the powers of τ the block's closed-form paths are polynomials in
+        powers = np.empty((n, 5))
+        powers[:, 0] = 1.0
+        powers[:, 1] = tau
+        np.multiply(tau, tau, out=powers[:, 2])
+        np.multiply(powers[:, 2], tau, out=powers[:, 3])
+        np.multiply(powers[:, 2], powers[:, 2], out=powers[:, 4])
+        # the block's thrust, relative to its start, and the path without gravity from the
+        # block's start, r_b + τ (v_b − v^T_lo) + Δp^T; with g0 in the sums (v^T + g0 t,
+        # p^T + g0 t²/2), Δv^T = Δv − g0 τ and the path is r_b + τ (v_b − v_lo) − g0 τ²/2 + Δp
+        # (the terms in the block's start time cancel). The sums added the same rounded
+        # g0·h at every step: g0 τ is taken out as that times the step count, or its rounding
+        # (1e-17 m/s a step) would stay in the velocity as a drift
+        steps = np.empty((n, 2))
+        steps[:, 0] = 1.0
+        steps[:, 1] = np.arange(1.0, n + 1.0)
+        v_base = _poly(steps, np.stack([vb - vT[lo], -(g0 * h)]), like)   # v_b + Δv^T − g0 τ
+        v_base += like
+        free_r = _poly(np.ascontiguousarray(powers[:, :3]),
+                       np.stack([rb - pT[lo], vb - vT[lo], -0.5 * g0]), like)
+        free_r += pT[lo + 1: hi + 1]
         rho = GRADIENT * (n * h) ** 2 / 2
         # predictor: the last gravitation turned with the Earth (its path in closed form to
         # third order in ω τ), corrected to first order in the departure d of that path from
         # a point at rest on the Earth (the field's gradient, by differences of the field)
         ang = OMEGA_E * tau
-        c, s = _expand(np.cos(ang), like), _expand(np.sin(ang), like)
+        c, s = _turn(ang)
+        c, s = _expand(c, like), _expand(s, like)
         last = np.broadcast_to(self.hist[-1], like.shape[1:])
         wl = np.zeros_like(last)
         wl[..., 0], wl[..., 1] = -OMEGA_E * last[..., 1], OMEGA_E * last[..., 0]
         wwl = np.zeros_like(last)
         wwl[..., 0], wwl[..., 1] = -OMEGA_E * wl[..., 1], OMEGA_E * wl[..., 0]
-        crude = (tt * tt) * (0.5 * last + tt * (wl / 6.0 + tt * (wwl / 24.0)))
+        crude = _poly(np.ascontiguousarray(powers[:, 2:]),
+                      np.stack([0.5 * last, wl / 6.0, wwl / 24.0]), like)
         crude += free_r
-        Gb = gravitation_gradient(rb, GRADIENT_STEP)
-        GbT = np.swapaxes(Gb, -1, -2)
-        d = _rot_z(crude, c, -s)
+        GbT = _gradient_t(rb)
+        d = _rot_z(crude, c, s, inverse=True)
         d -= rb
         lin = 3.0 * float(np.abs(d).max()) / A + LINEARISATION
         pred = _matvec(GbT, d)
@@ -340,18 +436,20 @@ class EarthIntegrator:
         geo = geodetic_kernel(base_r)
         G1 = gravitation_kernel(base_r, geo[0], geo[2], geo[3])
         r1 = base_r
-        zeros = np.zeros((min(NODES - 1, self.hist.shape[0]),) + like.shape[1:])
+        v_base += V0
+        # the gradient turned with the Earth, R_z(α) ∇G R_z(−α) = ∇G + α [Z, ∇G] + O(α²) (the
+        # O(α²) term of the linearised update, α² |∇G| |r − r₁| ≈ 2e-16 m/s², is left out)
+        KT = _Z @ GbT - GbT @ _Z
+        alpha = _expand(ang, like)[..., None]
         held = None
         if self.hold is not None:
             held = self._targets(tau, like.shape[:-1])
         psi, r_prev = G1, None
         it, evals, first = 0, 1, None
         while True:
-            V, D = self._displacement(*self._integrals(psi - pred, zeros, CORRECTION_NODES))
+            V, D = _trapezoid(psi - pred, h)
             r = base_r + D
-            v = dv + vb
-            v += V0
-            v += V
+            v = v_base + V
             residual = 0.0
             if held is not None:
                 r, v, residual = self._held(r, v, r1, geo, tau, held)
@@ -377,7 +475,10 @@ class EarthIntegrator:
                     f"navigation on the Earth did not converge at t = "
                     f"{self.t0 + (self.k + 1) * h:.9g} s (the positions change by {change:.3g} m "
                     "per iteration): the signals are far outside a motion near the Earth")
-            psi = _rot_z(_matvec(GbT, _rot_z(r - r1, c, -s)), c, s)
+            dr = r - r1
+            psi = _matvec(KT, dr)
+            psi *= alpha
+            psi += _matvec(GbT, dr)
             psi += G1
         self.iterations.append(it)
         self.evaluations.append(evals)
@@ -387,7 +488,11 @@ class EarthIntegrator:
         if not np.isfinite(geo[2]).all():
             raise ImunavError(f"navigation on the Earth left the Earth's surroundings by t = "
                               f"{self.t0 + self.k * h:.9g} s (within 43 km of its centre)")
-        return self._local(q_ib, v, r, r1, geo, OMEGA_E * ((self.k - n) * h + tau))
+        v_out, r_out, r1_out, geo_out, ang_out = out
+        v_out[lo:hi], r_out[lo:hi], r1_out[lo:hi] = v, r, r1
+        for a, b in zip(geo_out, geo, strict=True):
+            a[lo:hi] = b
+        ang_out[lo:hi] = OMEGA_E * ((self.k - n) * h + tau)
 
     # ------------------------------------------------------------------------------ hold
     def _targets(self, tau, shape):
@@ -439,31 +544,82 @@ class EarthIntegrator:
         coordinates from those of the nearby ``r1`` (``geo``: :func:`geodetic_kernel`'s) plus
         the NED components of the small difference (second order: below 1e-15 m). ``ang`` is
         the Earth's turn ``ω_ie (t − t₀)`` at the nodes."""
-        sl, cl, alt1, c_rho = geo
+        sl, cl, alt1, _ = geo
         x1, y1 = r1[..., 0], r1[..., 1]
-        co, so = c_rho * x1, c_rho * y1                      # cos L cos λ_i, cos L sin λ_i
-        d = r_i - r1
         rho = np.sqrt(x1 * x1 + y1 * y1)
-        dn = -sl * (x1 * d[..., 0] + y1 * d[..., 1]) / rho + cl * d[..., 2]
-        de = (-y1 * d[..., 0] + x1 * d[..., 1]) / rho
-        dd = -(co * d[..., 0] + so * d[..., 1]) - sl * d[..., 2]
+        cn, sn = x1 / rho, y1 / rho                          # cos λ_i, sin λ_i of r1
+        d = r_i - r1
+        d0, d1, d2 = d[..., 0], d[..., 1], d[..., 2]
+        radial = cn * d0
+        radial += sn * d1
+        dn = cl * d2
+        dn -= sl * radial
+        de = cn * d1
+        de -= sn * d0
+        dd = -cl * radial
+        dd -= sl * d2
         x = 1.0 - E2 * sl * sl
         re = A / np.sqrt(x)
         rn = re * (1.0 - E2) / x
-        lat = np.arctan2(sl, cl) + dn / (rn + alt1)
-        lon_i = np.arctan2(y1, x1) + de / ((re + alt1) * cl)
+        dlat = dn / (rn + alt1)
+        dlon = de / ((re + alt1) * cl)
+        lat = np.arctan2(sl, cl) + dlat
+        lon_i = np.arctan2(y1, x1) + dlon
         alt = alt1 - dd
         if np.abs(d).max(initial=0.0) > 1e-3:                # never expected: be exact
             lat, lon_i, alt = ecef_to_geodetic(r_i)
-        # the local NED frame in the inertial frame: q_in = q_en at the inertial longitude
-        q_ni = quat_conj(quat_ned_to_ecef(lat, lon_i))
-        v_rel = v_i.copy()
-        v_rel[..., 0] += OMEGA_E * r_i[..., 1]               # v_i − Ω × r_i
-        v_rel[..., 1] -= OMEGA_E * r_i[..., 0]
-        v_n = quat_rotate(q_ni, v_rel)
+            sL, cL, cn, sn = np.sin(lat), np.cos(lat), np.cos(lon_i), np.sin(lon_i)
+            y1 = sn
+        else:
+            # sines and cosines at the corrected point: the corrections are below 2e-10 rad,
+            # their squares below the rounding of 1
+            sL = sl + cl * dlat
+            cL = cl - sl * dlat
+            cn, sn = cn - sn * dlon, sn + cn * dlon
+        # v_n = C_ni (v_i − Ω × r_i): the local NED axes in the inertial frame
+        vx = v_i[..., 0] + OMEGA_E * r_i[..., 1]
+        vy = v_i[..., 1] - OMEGA_E * r_i[..., 0]
+        vz = v_i[..., 2]
+        v_n = np.empty_like(v_i)
+        w = cn * vx
+        w += sn * vy
+        np.multiply(cL, vz, out=v_n[..., 0])
+        v_n[..., 0] -= sL * w
+        np.multiply(cn, vy, out=v_n[..., 1])
+        v_n[..., 1] -= sn * vx
+        np.multiply(cL, w, out=v_n[..., 2])
+        v_n[..., 2] += sL * vz
+        np.negative(v_n[..., 2], out=v_n[..., 2])
+        # q_ni = q_en* = [ca C, −sa S, ca S, −sa C] with a = λ_i/2 and C, S = cos, sin of
+        # (L + π/2)/2 (q_en = q_z(λ) ⊗ q_y(−L − π/2)), the half angles from the sines and
+        # cosines, each by the better-conditioned formula; the branch of λ_i is arctan2's
+        # (the sign of y₁ at λ_i = ±π)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            up = sL >= 0.0
+            half = np.sqrt(0.5 * (1.0 + np.where(up, sL, -sL)))
+            other = cL / (2.0 * half)
+            S, C = np.where(up, half, other), np.where(up, other, half)
+            right = cn >= 0.0
+            half = np.sqrt(0.5 * (1.0 + np.where(right, cn, -cn)))
+            half = np.where(right, half, np.copysign(half, y1))
+            other = sn / (2.0 * half)
+            ca, sa = np.where(right, half, other), np.where(right, other, half)
+        q_ni = np.empty(sL.shape + (4,))
+        np.multiply(ca, C, out=q_ni[..., 0])
+        np.multiply(sa, S, out=q_ni[..., 1])
+        np.negative(q_ni[..., 1], out=q_ni[..., 1])
+        np.multiply(ca, S, out=q_ni[..., 2])
+        np.multiply(sa, C, out=q_ni[..., 3])
+        np.negative(q_ni[..., 3], out=q_ni[..., 3])
         q_nb = quat_mul(q_ni, q_ib)
-        lon = lon_i - ang.reshape(ang.shape + (1,) * (lon_i.ndim - 1))
-        lon = np.where(lon > np.pi, lon - 2 * np.pi, np.where(lon <= -np.pi, lon + 2 * np.pi, lon))
-        return q_nb, v_n, np.stack([lat, lon, alt], axis=-1)
+        p = np.empty_like(v_n)
+        p[..., 0] = lat
+        lon = p[..., 1]
+        np.subtract(lon_i, ang.reshape(ang.shape + (1,) * (lon_i.ndim - 1)), out=lon)
+        if lon.size and (float(lon.max()) > np.pi or float(lon.min()) <= -np.pi):
+            lon[...] = np.where(lon > np.pi, lon - 2 * np.pi,
+                                np.where(lon <= -np.pi, lon + 2 * np.pi, lon))
+        p[..., 2] = alt
+        return q_nb, v_n, p
 
 

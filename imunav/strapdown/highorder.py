@@ -240,7 +240,8 @@ def navigate_poly(kind: str, gyro: FloatArray, accel: FloatArray, h: float, q0: 
             dp_b[lo:hi] += (h * h * _GQ_W[i] * (1 - si)) * rf
     q = exp_product(q0, phi)
     del phi
-    gn = np.array([0.0, 0.0, g])
+    # g: a magnitude (flat NED) or a vector as it is (on the Earth: classic._gravity)
+    gn = np.array([0.0, 0.0, g]) if np.ndim(g) == 0 else np.asarray(g, dtype=float)
     v = np.empty((n + 1,) + dv_b.shape[1:])
     p = np.empty_like(v)
     v[0], p[0] = v0, p0
