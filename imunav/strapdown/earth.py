@@ -16,7 +16,11 @@ position they return the *thrust* parts ``v^T_k = Σ C_ib Δv_b`` and ``p^T_k``,
     v_k = v₀ + v^T_k + Σ_{j≤k} I_j,     r_k = r₀ + v₀ (t_k − t₀) + p^T_k + Σ_{j≤k} (h V_{j−1} + II_j)
 
 with ``I_j = ∫ G dt`` and ``II_j = ∫ (t_j − s) G ds`` over interval j (``V`` the running sum of
-``I``). The Earth rate, the Coriolis and centripetal terms and the transport rate of a local-level
+``I``). In practice the algorithm runs on pieces of the signals (``EARTH_CHUNK_SECONDS`` of
+:mod:`imunav.strapdown.registry`) with the gravitation ``g₀`` at the piece's start as a constant
+gravity, and ``g₀ τ`` and ``g₀ τ²/2`` are taken out again here, exactly: its sums then grow with
+the change of gravity over the piece (the Earth turns ~0.05 rad in 10 minutes), not like g·t,
+and so does their rounding. The Earth rate, the Coriolis and centripetal terms and the transport rate of a local-level
 mechanisation are all in the exact change of frame at the output,
 
     r_e = C_ei r_i,   v_e = C_ei (v_i − Ω × r_i),   v_n = C_ne v_e,   q_nb = q_ne ⊗ q_ei ⊗ q_ib,
