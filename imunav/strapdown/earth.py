@@ -20,8 +20,8 @@ with ``I_j = ∫ G dt`` and ``II_j = ∫ (t_j − s) G ds`` over interval j (``V
 :mod:`imunav.strapdown.registry`) with the gravitation ``g₀`` at the piece's start as a constant
 gravity, and ``g₀ τ`` and ``g₀ τ²/2`` are taken out again here, exactly: its sums then grow with
 the change of gravity over the piece (the Earth turns ~0.05 rad in 10 minutes), not like g·t,
-and so does their rounding. The Earth rate, the Coriolis and centripetal terms and the transport rate of a local-level
-mechanisation are all in the exact change of frame at the output,
+and so does their rounding. The Earth rate, the Coriolis and centripetal terms and the
+transport rate of a local-level mechanisation are all in the exact change of frame at the output,
 
     r_e = C_ei r_i,   v_e = C_ei (v_i − Ω × r_i),   v_n = C_ne v_e,   q_nb = q_ne ⊗ q_ei ⊗ q_ib,
 
@@ -232,6 +232,46 @@ def _gradient_t(r: FloatArray) -> FloatArray:
     return (G[..., 0::2, :] - G[..., 1::2, :]) / (2.0 * GRADIENT_STEP)
 
 
+@cache
+def _tables(n: int, h: float) -> dict[str, FloatArray]:
+    """What a block of ``n`` steps of ``h`` needs that depends on nothing else (read-only):
+    ``tau`` (n,), the powers ``p012 = [1, τ, τ²]`` and ``p234 = [τ², τ³, τ⁴]`` (n, 3), ``steps =
+    [1, k]`` (n, 2), the Earth's turn ``ang = ω τ`` and its ``cos``, ``sin``."""
+    tau = np.arange(1, n + 1) * h
+    t2 = tau * tau
+    out = {"tau": tau, "p012": np.column_stack([np.ones(n), tau, t2]),
+           "p234": np.column_stack([t2, t2 * tau, t2 * t2]),
+           "steps": np.column_stack([np.ones(n), np.arange(1.0, n + 1.0)]),
+           "ang": OMEGA_E * tau}
+    out["cos"], out["sin"] = _turn(out["ang"])
+    for x in out.values():
+        x.flags.writeable = False
+    return out
+
+
+#: ``last @ _CRUDE`` → the rows ``[½ G, (ω/6) ẑ × G, (ω²/24) ẑ × (ẑ × G)]`` of the predictor's
+#: closed-form path of a gravitation ``G`` turning with the Earth (to third order in ω τ).
+_CRUDE = np.zeros((3, 3, 3))
+_CRUDE[:, 0] = 0.5 * np.eye(3)
+_CRUDE[1, 1, 0], _CRUDE[0, 1, 1] = -OMEGA_E / 6.0, OMEGA_E / 6.0
+_CRUDE[0, 2, 0], _CRUDE[1, 2, 1] = -OMEGA_E**2 / 24.0, -OMEGA_E**2 / 24.0
+_CRUDE = _CRUDE.reshape(3, 9)
+
+
+def _evaluate(r: FloatArray) -> tuple[tuple, FloatArray, FloatArray]:
+    """The exact evaluation at a block's path ``r`` (n, [R,] 3): its geodetic coordinates
+    (:func:`geodetic_kernel`) and gravitation, and — in the same call, the six points added —
+    the gradient (transposed) about its last node, for the next block."""
+    pts = r[-1][..., None, :] + _STEPS                       # ([R,] 6, 3)
+    both = np.concatenate([r.reshape(-1, 3), pts.reshape(-1, 3)])
+    geo = geodetic_kernel(both)
+    G = gravitation_kernel(both, geo[0], geo[2], geo[3])
+    m = r.size // 3
+    Gp = G[m:].reshape(pts.shape)
+    gbt = (Gp[..., 0::2, :] - Gp[..., 1::2, :]) / (2.0 * GRADIENT_STEP)
+    return (tuple(x[:m].reshape(r.shape[:-1]) for x in geo), G[:m].reshape(r.shape), gbt)
+
+
 #: The generator of a turn about the Earth's axis (R_z(α) ≈ I + α Z).
 _Z = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
 
@@ -295,6 +335,7 @@ class EarthIntegrator:
         self.hist = gravitation_ecef(r)[None]                 # last ≤ NODES−1 gravitations
         self.iterations: list[int] = []
         self.evaluations: list[int] = []
+        self._gbt = None                  # the next block's gradient (transposed), if known
 
     # ----------------------------------------------------------------------------- gravity
     def _integrals(self, psi: FloatArray, hist: FloatArray, m: int
@@ -385,46 +426,31 @@ class EarthIntegrator:
         the Earth's turn into ``out[i][lo:hi]`` (the arrays of :meth:`advance`)."""
         h = self.h
         n = hi - lo
-        tau = np.arange(1, n + 1) * h                         # time since the block's start
+        tab = _tables(n, h)
+        tau = tab["tau"]                                       # time since the block's start
         like = vT[lo + 1: hi + 1]
         rb, vb = self.r, self.v
-        # the powers of τ the block's closed-form paths are polynomials in
-        powers = np.empty((n, 5))
-        powers[:, 0] = 1.0
-        powers[:, 1] = tau
-        np.multiply(tau, tau, out=powers[:, 2])
-        np.multiply(powers[:, 2], tau, out=powers[:, 3])
-        np.multiply(powers[:, 2], powers[:, 2], out=powers[:, 4])
         # the block's thrust, relative to its start, and the path without gravity from the
         # block's start, r_b + τ (v_b − v^T_lo) + Δp^T; with g0 in the sums (v^T + g0 t,
         # p^T + g0 t²/2), Δv^T = Δv − g0 τ and the path is r_b + τ (v_b − v_lo) − g0 τ²/2 + Δp
         # (the terms in the block's start time cancel). The sums added the same rounded
         # g0·h at every step: g0 τ is taken out as that times the step count, or its rounding
         # (1e-17 m/s a step) would stay in the velocity as a drift
-        steps = np.empty((n, 2))
-        steps[:, 0] = 1.0
-        steps[:, 1] = np.arange(1.0, n + 1.0)
-        v_base = _poly(steps, np.stack([vb - vT[lo], -(g0 * h)]), like)   # v_b + Δv^T − g0 τ
+        dvb = vb - vT[lo]
+        v_base = _poly(tab["steps"], np.stack([dvb, -(g0 * h)]), like)   # v_b + Δv^T − g0 τ
         v_base += like
-        free_r = _poly(np.ascontiguousarray(powers[:, :3]),
-                       np.stack([rb - pT[lo], vb - vT[lo], -0.5 * g0]), like)
+        free_r = _poly(tab["p012"], np.stack([rb - pT[lo], dvb, -0.5 * g0]), like)
         free_r += pT[lo + 1: hi + 1]
         rho = GRADIENT * (n * h) ** 2 / 2
         # predictor: the last gravitation turned with the Earth (its path in closed form to
         # third order in ω τ), corrected to first order in the departure d of that path from
         # a point at rest on the Earth (the field's gradient, by differences of the field)
-        ang = OMEGA_E * tau
-        c, s = _turn(ang)
-        c, s = _expand(c, like), _expand(s, like)
-        last = np.broadcast_to(self.hist[-1], like.shape[1:])
-        wl = np.zeros_like(last)
-        wl[..., 0], wl[..., 1] = -OMEGA_E * last[..., 1], OMEGA_E * last[..., 0]
-        wwl = np.zeros_like(last)
-        wwl[..., 0], wwl[..., 1] = -OMEGA_E * wl[..., 1], OMEGA_E * wl[..., 0]
-        crude = _poly(np.ascontiguousarray(powers[:, 2:]),
-                      np.stack([0.5 * last, wl / 6.0, wwl / 24.0]), like)
+        c, s = _expand(tab["cos"], like), _expand(tab["sin"], like)
+        last = self.hist[-1]
+        crude = _poly(tab["p234"], np.moveaxis((last @ _CRUDE).reshape(last.shape[:-1] + (3, 3)),
+                                               -2, 0), like)
         crude += free_r
-        GbT = _gradient_t(rb)
+        GbT = _gradient_t(rb) if self._gbt is None else self._gbt
         d = _rot_z(crude, c, s, inverse=True)
         d -= rb
         lin = 3.0 * float(np.abs(d).max()) / A + LINEARISATION
@@ -432,39 +458,43 @@ class EarthIntegrator:
         pred += last
         pred = _rot_z(pred, c, s)
         # the predictor's integrals by the 8-node rule (with the history), once; one exact
-        # evaluation at the path they give; then the corrections, tiny and smooth, by the
+        # evaluation at the path they give (with the six points of the next block's gradient
+        # about its last node, within ~1e-5 m of where the next block starts: the gradient
+        # changes by 5e-12 of itself there); then the corrections, tiny and smooth, by the
         # trapezoid rule, linearised about that evaluation
         V0, D0 = self._displacement(*self._integrals(pred, self.hist, NODES))
         base_r = free_r
         base_r += D0
-        geo = geodetic_kernel(base_r)
-        G1 = gravitation_kernel(base_r, geo[0], geo[2], geo[3])
+        geo, G1, self._gbt = _evaluate(base_r)
         r1 = base_r
         v_base += V0
         # the gradient turned with the Earth, R_z(α) ∇G R_z(−α) = ∇G + α [Z, ∇G] + O(α²) (the
         # O(α²) term of the linearised update, α² |∇G| |r − r₁| ≈ 2e-16 m/s², is left out)
         KT = _Z @ GbT - GbT @ _Z
-        alpha = _expand(ang, like)[..., None]
+        alpha = _expand(tab["ang"], like)[..., None]
         held = None
         if self.hold is not None:
             held = self._targets(tau, like.shape[:-1])
         psi, r_prev = G1, None
         it, evals, first = 0, 1, None
+        v = None
         while True:
             V, D = _trapezoid(psi - pred, h)
             r = base_r + D
-            v = v_base + V
             residual = 0.0
             if held is not None:
+                v = v_base + V
                 r, v, residual = self._held(r, v, r1, geo, tau, held)
+            # r − r₁: at the first evaluation point r₁ = base_r, D itself (before its rounding)
+            dr = D if held is None and r1 is base_r else r - r1
             it += 1
-            change = float(np.abs(r - (r1 if r_prev is None else r_prev)).max())
+            change = float(np.abs(dr if r_prev is None else r - r_prev).max())
             if DEBUG is not None:
                 DEBUG.append((self.k, evals, it, change, float(np.abs(d).max()), residual))
             first = change if first is None else first
             r_prev = r
             if rho / (1 - rho) * change <= TOLERANCE and residual <= HOLD_TOLERANCE:
-                far = held is not None and float(np.abs(r - r1).max()) > HOLD_RELINEARISE
+                far = held is not None and float(np.abs(dr).max()) > HOLD_RELINEARISE
                 if lin * rho * first <= TOLERANCE and not far:
                     break
                 # the linearisation's own error could exceed the tolerance (or the held path is
@@ -479,11 +509,12 @@ class EarthIntegrator:
                     f"navigation on the Earth did not converge at t = "
                     f"{self.t0 + (self.k + 1) * h:.9g} s (the positions change by {change:.3g} m "
                     "per iteration): the signals are far outside a motion near the Earth")
-            dr = r - r1
             psi = _matvec(KT, dr)
             psi *= alpha
             psi += _matvec(GbT, dr)
             psi += G1
+        if held is None:
+            v = v_base + V
         self.iterations.append(it)
         self.evaluations.append(evals)
         self.hist = np.concatenate([self.hist, psi])[-(NODES - 1):]
