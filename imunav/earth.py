@@ -422,23 +422,60 @@ def geodetic_kernel(r: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, 
     -------
     sin_lat, cos_lat, h, c_rho : ndarray, shape (...)
     """
+    if np.ndim(r) == 1:                                  # one point: scalars out
+        return tuple(x[0] for x in geodetic_kernel(np.asarray(r)[None]))
     x, y, z = r[..., 0], r[..., 1], r[..., 2]
-    rho2 = x * x + y * y
+    rho2 = x * x
+    rho2 += y * y
     p = rho2 * (1.0 / (A * A))
-    q = ((1.0 - E2) / (A * A)) * (z * z)
-    s6 = (p + q - _E4) * (1.0 / 6.0)
+    q = z * z
+    q *= (1.0 - E2) / (A * A)
+    s6 = p + q
+    s6 -= _E4
+    s6 *= 1.0 / 6.0
+    if s6.size and float(s6.min()) > 0:                  # every point outside the evolute
+        return _vermeille(rho2, z, p, q, s6)
     with np.errstate(invalid="ignore", divide="ignore"):
-        s6 = np.where(s6 > 0, s6, np.nan)
-        s = (_E4 * 0.25) * p * q / (s6 * s6 * s6)
-        t = np.cbrt(1.0 + s + np.sqrt(s * (2.0 + s)))
-        u = s6 * (1.0 + t + 1.0 / t)
-        v = np.sqrt(u * u + _E4 * q)
-        w = (0.5 * E2) * (u + v - q) / v
-        k = np.sqrt(u + v + w * w) - w
-        D = k * np.sqrt(rho2) / (k + E2)
-        dz = np.sqrt(D * D + z * z)
-        h = (k + E2 - 1.0) / k * dz
-        return z / dz, D / dz, h, k / ((k + E2) * dz)
+        return _vermeille(rho2, z, p, q, np.where(s6 > 0, s6, np.nan))
+
+
+def _vermeille(rho2, z, p, q, s6):
+    """The rest of :func:`geodetic_kernel` (Vermeille 2004), in place where it can be (the
+    same operations in the same order as the textbook expressions, so the same bits)."""
+    s = (_E4 * 0.25) * p
+    s *= q
+    s /= (s6 * s6) * s6
+    t = 2.0 + s
+    t *= s
+    np.sqrt(t, out=t)
+    t += 1.0 + s
+    np.cbrt(t, out=t)
+    u = 1.0 + t
+    u += 1.0 / t
+    u *= s6
+    v = u * u
+    v += _E4 * q
+    np.sqrt(v, out=v)
+    w = u + v
+    w -= q
+    w *= 0.5 * E2
+    w /= v
+    k = u + v
+    k += w * w
+    np.sqrt(k, out=k)
+    k -= w
+    kE = k + E2
+    D = k * np.sqrt(rho2)
+    D /= kE
+    dz = D * D
+    dz += z * z
+    np.sqrt(dz, out=dz)
+    h = k + E2 - 1.0
+    h /= k
+    h *= dz
+    kE *= dz
+    np.divide(k, kE, out=k)
+    return z / dz, D / dz, h, k
 
 
 def dcm_ned_to_ecef(lat: npt.ArrayLike, lon: npt.ArrayLike) -> FloatArray:

@@ -48,6 +48,7 @@ May import: ``imunav.core``, ``imunav.earth``.
 
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 from functools import cache
 
@@ -354,7 +355,7 @@ class EarthIntegrator:
             # the m shifted node sequences as the rows of one matrix, times the (2, m) weights:
             # one BLAS product (3× faster than m multiply-adds per output)
             off, cnt = back + start - (m - 1), n - start
-            X = np.empty((m, cnt * int(np.prod(psi.shape[1:]))))
+            X = np.empty((m, cnt * math.prod(psi.shape[1:])))
             for j in range(m):
                 X[j] = full[off + j: off + j + cnt].reshape(-1)
             both = _weights(m, h) @ X
