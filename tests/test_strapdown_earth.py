@@ -221,6 +221,31 @@ def test_batched_runs_equal_single_runs(rng):
         assert np.abs(E.ned_difference(p[:, r], one.position)).max() < 1e-8
 
 
+def test_batched_runs_hold_each_its_own_height():
+    """``hold`` may give each run its own heights, shape (n, R) (it raised before): each run of
+    a batch held at its own height, a fall from rest stopped, equals that run alone."""
+    R, N = 2, 50
+    dv = np.tile([0.0, 0.0, -0.98], (N, R, 1))
+    dth = np.zeros((N, R, 3))
+    p0 = np.array([[0.9, 0.6, 100.0], [0.5, 0.1, 2000.0]])
+
+    def hold(t):
+        return np.tile(p0[:, 2], (t.size, 1)), np.zeros((t.size, R))
+
+    q, v, p = navigate_batch("increments", dth, dv, 10.0, [1.0, 0, 0, 0], [0.0, 0, 0], p0,
+                             earth="wgs84", hold=hold)
+    np.testing.assert_allclose(p[:, :, 2], np.tile(p0[:, 2], (N + 1, 1)), rtol=0, atol=1e-6)
+    for r in range(R):
+        _, v1, p1 = navigate_batch("increments", dth[:, r:r + 1], dv[:, r:r + 1], 10.0,
+                                   [1.0, 0, 0, 0], [0.0, 0, 0], p0[r:r + 1], earth="wgs84",
+                                   hold=lambda t, r=r: (np.full(t.size, p0[r, 2]),
+                                                        np.zeros(t.size)))
+        np.testing.assert_allclose(v[:, r], v1[:, 0], rtol=0, atol=1e-12)
+    with pytest.raises(ImunavError, match="hold"):
+        navigate_batch("increments", dth, dv, 10.0, [1.0, 0, 0, 0], [0.0, 0, 0], p0,
+                       earth="wgs84", hold=lambda t: (np.zeros((t.size, 3)), np.zeros(t.size)))
+
+
 @pytest.mark.filterwarnings("ignore::DeprecationWarning", "ignore::FutureWarning",
                             "ignore:The copy keyword is deprecated")
 def test_side_by_side_with_pyins_integrator_on_the_same_increments():

@@ -535,10 +535,19 @@ class EarthIntegrator:
         """The held heights and up velocities at the block's nodes, ``(n, [R])`` each."""
         t = self.t0 + self.k * self.h + tau
         hh, vd = self.hold(t)
-        hh = np.broadcast_to(np.asarray(hh, dtype=float).reshape(
-            (t.size,) + (1,) * (len(shape) - 1)), shape)
-        vd = np.broadcast_to(np.asarray(vd, dtype=float).reshape(
-            (t.size,) + (1,) * (len(shape) - 1)), shape)
+
+        def shaped(x, name):
+            x = np.asarray(x, dtype=float)
+            if x.ndim <= 1:                                   # one value per node, all runs
+                x = x.reshape((t.size,) + (1,) * (len(shape) - 1))
+            try:
+                return np.broadcast_to(x, shape)
+            except ValueError:
+                raise ImunavError(f"hold(t) must give {name} of shape (n,) or {shape} for the "
+                                  f"n = {t.size} times t, got {x.shape}",
+                                  argument="hold") from None
+
+        hh, vd = shaped(hh, "heights"), shaped(vd, "down velocities")
         return {"h": hh, "u": -vd, "S": np.zeros(shape), "P": np.zeros(shape)}
 
     def _held(self, r, v, r1, geo, tau, held):
