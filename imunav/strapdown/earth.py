@@ -277,6 +277,11 @@ def _evaluate(r: FloatArray) -> tuple[tuple, FloatArray, FloatArray]:
 _Z = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
 
 
+def _absmax(x: FloatArray) -> float:
+    """``max |x|`` without the temporary of ``np.abs``."""
+    return max(float(x.max()), -float(x.min()))
+
+
 def _expand(a: FloatArray, like: FloatArray) -> FloatArray:
     """A per-node scalar (n,) shaped to broadcast against the components ``like[..., i]`` of
     vectors ``like`` (n, [R,] 3)."""
@@ -454,7 +459,7 @@ class EarthIntegrator:
         GbT = _gradient_t(rb) if self._gbt is None else self._gbt
         d = _rot_z(crude, c, s, inverse=True)
         d -= rb
-        lin = 3.0 * float(np.abs(d).max()) / A + LINEARISATION
+        lin = 3.0 * _absmax(d) / A + LINEARISATION
         pred = _matvec(GbT, d)
         pred += last
         pred = _rot_z(pred, c, s)
@@ -489,7 +494,7 @@ class EarthIntegrator:
             # r − r₁: at the first evaluation point r₁ = base_r, D itself (before its rounding)
             dr = D if held is None and r1 is base_r else r - r1
             it += 1
-            change = float(np.abs(dr if r_prev is None else r - r_prev).max())
+            change = _absmax(dr if r_prev is None else r - r_prev)
             if DEBUG is not None:
                 DEBUG.append((self.k, evals, it, change, float(np.abs(d).max()), residual))
             first = change if first is None else first
@@ -611,7 +616,7 @@ class EarthIntegrator:
         lat = np.arctan2(sl, cl) + dlat
         lon_i = np.arctan2(y1, x1) + dlon
         alt = alt1 - dd
-        if np.abs(d).max(initial=0.0) > 1e-3:                # never expected: be exact
+        if d.size and _absmax(d) > 1e-3:                      # never expected: be exact
             lat, lon_i, alt = ecef_to_geodetic(r_i)
             sL, cL, cn, sn = np.sin(lat), np.cos(lat), np.cos(lon_i), np.sin(lon_i)
             y1 = sn
