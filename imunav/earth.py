@@ -46,7 +46,7 @@ from imunav.core.validation import ImunavError, as_float_array
 
 __all__ = ["A", "B", "E2", "F", "GAMMA_E", "GAMMA_P", "GM", "K_SOMIGLIANA", "M", "OMEGA_E",
            "dcm_ecef_to_inertial", "dcm_ned_to_ecef", "earth_rate_ned", "ecef_to_geodetic",
-           "geodetic_kernel", "gravitation_kernel",
+           "geodetic_kernel", "gravitation_kernel", "gradient_from_points", "gradient_points",
            "ecef_to_ned", "geodetic_to_ecef", "gravitation_ecef", "gravity_ecef", "gravity_ned",
            "ned_to_ecef", "normal_gravity", "quat_ned_to_ecef", "radii", "schuler_frequency",
            "transport_rate_ned", "check_origin"]
@@ -675,15 +675,22 @@ def gravitation_gradient(r: npt.ArrayLike, step: float = 20.0) -> FloatArray:
         ``[i, j] = ∂G_i/∂r_j``.
     """
     r = as_float_array(r, "r", last=3)
-    pts = np.empty(r.shape[:-1] + (6, 3))
-    pts[...] = r[..., None, :]
-    for j in range(3):
-        pts[..., 2 * j, j] += step
-        pts[..., 2 * j + 1, j] -= step
+    pts = gradient_points(r, step)
     sl, _, h, c = geodetic_kernel(pts)
-    G = gravitation_kernel(pts, sl, h, c)
-    return np.stack([(G[..., 2 * j, :] - G[..., 2 * j + 1, :]) / (2.0 * step) for j in range(3)],
-                    axis=-1)
+    return np.swapaxes(gradient_from_points(gravitation_kernel(pts, sl, h, c), step), -1, -2)
+
+
+def gradient_points(r: FloatArray, step: float) -> FloatArray:
+    """The six points ``r ± step`` along x, y and z (…, 6, 3) of the central differences of
+    :func:`gravitation_gradient` (unchecked; what hot paths evaluate with other points)."""
+    offsets = np.repeat(np.eye(3), 2, axis=0) * np.tile([step, -step], 3)[:, None]
+    return r[..., None, :] + offsets
+
+
+def gradient_from_points(G: FloatArray, step: float) -> FloatArray:
+    """The central differences of the gravitation ``G`` (…, 6, 3) at :func:`gradient_points`:
+    the gradient *transposed*, ``[j, i] = ∂G_i/∂r_j``."""
+    return (G[..., 0::2, :] - G[..., 1::2, :]) / (2.0 * step)
 
 
 def gravitation_hessian(r: npt.ArrayLike, step: float = 200.0) -> FloatArray:

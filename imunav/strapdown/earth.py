@@ -50,7 +50,7 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
-from functools import cache
+from functools import cache, lru_cache
 
 import numpy as np
 
@@ -66,6 +66,8 @@ from imunav.earth import (
     ecef_to_geodetic,
     geodetic_kernel,
     geodetic_to_ecef,
+    gradient_from_points,
+    gradient_points,
     gravitation_ecef,
     gravitation_kernel,
     quat_ned_to_ecef,
@@ -76,12 +78,6 @@ __all__ = ["BLOCK_SECONDS", "NODES", "TOLERANCE", "EarthIntegrator", "gravity_we
 DEBUG = None  # (diagnostics: a list collects (node, evaluations, iteration, change, |d|))
 #: Nodes of the gravity quadrature (its order).
 NODES = 8
-#: Nodes of the quadrature of the iteration's corrections to the predicted gravitation (the
-#: trapezoid rule): the predictor is exact to first order in the departure d from a point at
-#: rest, so the corrections are its second-order term, ∇Γ d²/2 ≈ 1e-8 m/s² for d = 200 m, and
-#: the rule's error h³/12 of their curvature is ~1e-16 m/s a step (measured: the default
-#: algorithm's errors over 10 s at 40 Hz change by 2e-16 m/s against 8 nodes).
-CORRECTION_NODES = 2
 #: Longest block of the fixed-point iteration (s): ρ = |∇G| T²/2 ≈ 1.6e-3 at 32 s.
 BLOCK_SECONDS = 32.0
 #: A block's positions are accepted when their estimated remaining error is below this (m).
@@ -207,7 +203,13 @@ def _trapezoid(e: FloatArray, h: float) -> tuple[FloatArray, FloatArray]:
     """Velocity ``V_k`` and displacement ``D_k`` of :meth:`EarthIntegrator._displacement` for
     the trapezoid rule (``I_j = h (e_{j−1} + e_j)/2``, ``II_j = h² (e_{j−1}/3 + e_j/6)``,
     ``e_{−1} = 0``) in closed form: with ``S = Σ e`` and ``SS = Σ S``,
-    ``V = h (S − e/2)`` and ``D = h² (SS − S + e/6)``."""
+    ``V = h (S − e/2)`` and ``D = h² (SS − S + e/6)``.
+
+    The rule of the iteration's corrections to the predicted gravitation: the predictor is
+    exact to first order in the departure d from a point at rest, so the corrections are its
+    second-order term, ∇Γ d²/2 ≈ 1e-8 m/s² for d = 200 m, and the rule's error h³/12 of their
+    curvature is ~1e-16 m/s a step (measured: the default algorithm's errors over 10 s at 40 Hz
+    change by 2e-16 m/s against 8 nodes)."""
     S = np.cumsum(e, axis=0)
     SS = np.cumsum(S, axis=0)
     V = S * h
@@ -218,22 +220,16 @@ def _trapezoid(e: FloatArray, h: float) -> tuple[FloatArray, FloatArray]:
     return V, SS
 
 
-#: The points of the central differences of :func:`_gradient_t`: ±GRADIENT_STEP along x, y, z.
-_STEPS = np.repeat(np.eye(3), 2, axis=0) * np.tile([GRADIENT_STEP, -GRADIENT_STEP], 3)[:, None]
-
-
 def _gradient_t(r: FloatArray) -> FloatArray:
     """``(∂G/∂r)ᵀ`` at ``r`` ([R,] 3): :func:`imunav.earth.gravitation_gradient` with steps of
-    :data:`GRADIENT_STEP`, unchecked and transposed (the same differences, to the bit; what
-    :func:`_matvec` takes), for the once-a-block call where the checks cost more than the
-    differences."""
-    pts = r[..., None, :] + _STEPS
+    :data:`GRADIENT_STEP`, unchecked and transposed (what :func:`_matvec` takes): the first
+    block's (each later one gets it from :func:`_evaluate`)."""
+    pts = gradient_points(r, GRADIENT_STEP)
     sl, _, hh, c = geodetic_kernel(pts)
-    G = gravitation_kernel(pts, sl, hh, c)
-    return (G[..., 0::2, :] - G[..., 1::2, :]) / (2.0 * GRADIENT_STEP)
+    return gradient_from_points(gravitation_kernel(pts, sl, hh, c), GRADIENT_STEP)
 
 
-@cache
+@lru_cache(maxsize=8)
 def _tables(n: int, h: float) -> dict[str, FloatArray]:
     """What a block of ``n`` steps of ``h`` needs that depends on nothing else (read-only):
     ``tau`` (n,), the powers ``p012 = [1, τ, τ²]`` and ``p234 = [τ², τ³, τ⁴]`` (n, 3), ``steps =
@@ -263,13 +259,12 @@ def _evaluate(r: FloatArray) -> tuple[tuple, FloatArray, FloatArray]:
     """The exact evaluation at a block's path ``r`` (n, [R,] 3): its geodetic coordinates
     (:func:`geodetic_kernel`) and gravitation, and — in the same call, the six points added —
     the gradient (transposed) about its last node, for the next block."""
-    pts = r[-1][..., None, :] + _STEPS                       # ([R,] 6, 3)
+    pts = gradient_points(r[-1], GRADIENT_STEP)              # ([R,] 6, 3)
     both = np.concatenate([r.reshape(-1, 3), pts.reshape(-1, 3)])
     geo = geodetic_kernel(both)
     G = gravitation_kernel(both, geo[0], geo[2], geo[3])
     m = r.size // 3
-    Gp = G[m:].reshape(pts.shape)
-    gbt = (Gp[..., 0::2, :] - Gp[..., 1::2, :]) / (2.0 * GRADIENT_STEP)
+    gbt = gradient_from_points(G[m:].reshape(pts.shape), GRADIENT_STEP)
     return (tuple(x[:m].reshape(r.shape[:-1]) for x in geo), G[:m].reshape(r.shape), gbt)
 
 

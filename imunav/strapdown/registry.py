@@ -311,14 +311,10 @@ class StreamNavigator:
 
     def _gravity(self):
         """The gravity the body-frame algorithm runs with over the next chunk: the flat frame's
-        ``g``; on the Earth the inertial gravitation at the current position, held constant
-        (``g_chunk``): the algorithm's thrust sums then stay near the change of gravity over
-        the chunk instead of growing like g·t, and :meth:`EarthIntegrator.advance` takes it
-        out exactly."""
-        if self.earth is None:
-            return self.g
-        self.g_chunk = self.earth.hist[-1].copy()
-        return self.g_chunk
+        ``g``; on the Earth the inertial gravitation at the current position, held constant:
+        the algorithm's thrust sums then stay near the change of gravity over the chunk instead
+        of growing like g·t, and :meth:`EarthIntegrator.advance` takes it out exactly."""
+        return self.g if self.earth is None else self.earth.hist[-1].copy()
 
     def _window(self, w0: int, w1: int) -> tuple[np.ndarray, np.ndarray]:
         g = np.concatenate(self.buf_g) if len(self.buf_g) > 1 else self.buf_g[0]
@@ -330,10 +326,10 @@ class StreamNavigator:
         w0 = max(0, lo - self.before)
         w1 = min(end, hi + self.own + self.after)
         g, a = self._window(w0, w1)
+        gravity = self._gravity()
         with np.errstate(all="ignore"):                           # checked just below
             try:
-                q, v, p = self.algo.func(g, a, self.h, *self.state, self._gravity(),
-                                         lo - w0, hi - lo)
+                q, v, p = self.algo.func(g, a, self.h, *self.state, gravity, lo - w0, hi - lo)
             except ImunavError as exc:          # an internal array's check ("phi contains NaN")
                 if "NaN or inf" not in str(exc):
                     raise
@@ -354,7 +350,7 @@ class StreamNavigator:
         if self.earth is not None:
             zero = np.zeros_like(v[-1])
             self.state = (q[-1], zero, zero)
-            out = self.earth.advance(q, v, p, self.g_chunk)
+            out = self.earth.advance(q, v, p, gravity)
         else:
             self.state = (q[-1], v[-1], p[-1])
             out = q[1:], v[1:], p[1:]
