@@ -681,15 +681,40 @@ def gravitation_gradient(r: npt.ArrayLike, step: float = 20.0) -> FloatArray:
 
 
 def gradient_points(r: FloatArray, step: float) -> FloatArray:
-    """The six points ``r ± step`` along x, y and z (…, 6, 3) of the central differences of
-    :func:`gravitation_gradient` (unchecked; what hot paths evaluate with other points)."""
+    """The six points ``r ± step`` along x, y and z of the central differences of
+    :func:`gravitation_gradient` (unchecked; what hot paths evaluate with other points).
+
+    Parameters
+    ----------
+    r : ndarray, shape (..., 3)
+        Positions (m), ECEF or inertial.
+    step : float
+        Difference step (m).
+
+    Returns
+    -------
+    ndarray, shape (..., 6, 3)
+        ``r + step e_x``, ``r − step e_x``, then y and z alike.
+    """
     offsets = np.repeat(np.eye(3), 2, axis=0) * np.tile([step, -step], 3)[:, None]
     return r[..., None, :] + offsets
 
 
 def gradient_from_points(G: FloatArray, step: float) -> FloatArray:
-    """The central differences of the gravitation ``G`` (…, 6, 3) at :func:`gradient_points`:
-    the gradient *transposed*, ``[j, i] = ∂G_i/∂r_j``."""
+    """The central differences of the gravitation at :func:`gradient_points`.
+
+    Parameters
+    ----------
+    G : ndarray, shape (..., 6, 3)
+        The gravitation (m/s²) at the six points.
+    step : float
+        Their difference step (m).
+
+    Returns
+    -------
+    ndarray, shape (..., 3, 3)
+        The gradient *transposed*: ``[j, i] = ∂G_i/∂r_j`` (s⁻²).
+    """
     return (G[..., 0::2, :] - G[..., 1::2, :]) / (2.0 * step)
 
 
