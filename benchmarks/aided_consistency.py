@@ -24,9 +24,9 @@ sys.path.insert(0, str(HERE.parent / "tests"))
 
 from test_estimation_filter import IMU_TERMS, drive  # noqa: E402
 
-from imunav.analysis.aided import filter_monte_carlo, nees_band  # noqa: E402
+from imunav.analysis.aided_montecarlo import filter_monte_carlo, nees_band  # noqa: E402
 from imunav.motion.geodetic import EarthMotion  # noqa: E402
-from imunav.sensors.aiding import AidingConfig  # noqa: E402
+from imunav.sensors.aids import AidingConfig  # noqa: E402
 from imunav.sensors.models import ImuModel  # noqa: E402
 
 #: Where the wgs84 scenario drives (rad, rad, m), as tests/test_estimation_filter_earth.py.

@@ -429,9 +429,10 @@ def aided_assess_bench(runs: int = 200, rounds: int = 1, imu: str = "ADIS16470",
     ``runs`` and without the budget: the outages' p95 it reports) against a ``runs``-run Monte
     Carlo of the EKF (:func:`aided_monte_carlo`, the same numbers by simulation), interleaved
     in this process. Also the agreement of the two at each outage's end."""
-    from imunav.analysis.outage import aided_monte_carlo, assess_aided
+    from imunav.analysis.aided_assessment import assess_aided
+    from imunav.analysis.aided_montecarlo import aided_monte_carlo
     from imunav.io.files import load_motion
-    from imunav.sensors.aiding import AidingConfig
+    from imunav.sensors.aids import AidingConfig
 
     motion = load_motion(HERE.parent / "examples" / "drive.toml")[0]
     aiding = AidingConfig.from_toml(HERE.parent / "examples" / "drive_aiding.toml")

@@ -28,9 +28,11 @@ from pathlib import Path
 
 import numpy as np
 
-from imunav.analysis.outage import aided_covariance, aided_monte_carlo, find_outage
+from imunav.analysis.aided_assessment import aided_covariance
+from imunav.analysis.aided_montecarlo import aided_monte_carlo
+from imunav.analysis.outage import find_outage
 from imunav.io.files import load_motion
-from imunav.sensors.aiding import AidingConfig
+from imunav.sensors.aids import AidingConfig
 from imunav.sensors.models import ImuModel
 
 HERE = Path(__file__).resolve().parent

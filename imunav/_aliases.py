@@ -36,6 +36,11 @@ ALIASES: dict[str, tuple[tuple[str, ...], dict[str, str]]] = {
                           {"run": "imunav.analysis.roundtrip:round_trip",
                            "QuickstartRun": "imunav.analysis.roundtrip:RoundTrip",
                            "quickstart_motion": "imunav.motion.catalog:figure_eight"}),
+    # 0.3: the aids' registry (issue 35)
+    "imunav.sensors.aiding": (("imunav.sensors.aids",), {}),
+    "imunav.strapdown.earth": (("imunav.strapdown.rotating",), {}),
+    "imunav.analysis.aided": (("imunav.analysis.aided_montecarlo",), {}),
+    "imunav.estimation.performance": (("imunav.analysis.aided_covariance",), {}),
 }
 
 

@@ -25,9 +25,10 @@ from pathlib import Path
 
 import numpy as np
 
+from imunav.analysis.aided_assessment import assess_aided, format_aided_verdict
+from imunav.analysis.aided_design import design_aided, format_outage_design
 from imunav.analysis.assessment import assess, format_verdict
 from imunav.analysis.design import design, format_design
-from imunav.analysis.outage import assess_aided, design_aided, format_aided_verdict, format_outage_design
 from imunav.core.constants import G0
 from imunav.core.resources import check_disk
 from imunav.core.validation import ImunavError, check_positive
@@ -36,8 +37,6 @@ from imunav.estimation.alignment import ALIGNMENTS, WINDOW
 from imunav.estimation.filters import SD_COLUMNS, run_filter
 from imunav.io import realdata
 from imunav.io.aiding import (
-    AIDING_FILES,
-    GNSS_HEADERS,
     check_span,
     read_aiding,
     unused_files,
@@ -63,7 +62,7 @@ from imunav.io.paths import check_outputs
 from imunav.motion.geodetic import EarthMotion
 from imunav.plotting import plot_allan
 from imunav.reproduce import format_table, reproduce_all
-from imunav.sensors.aiding import AidingConfig, simulate_aiding
+from imunav.sensors.aids import AIDS, AidingConfig, simulate_aiding
 from imunav.sensors.allan import allan_fits
 from imunav.sensors.allan_report import format_allan, imu_toml
 from imunav.sensors.models import ImuModel
@@ -402,8 +401,8 @@ def cmd_simulate(args) -> int:
         raise ImunavError("--aiding and --aiding-out go together")
     aiding = AidingConfig.from_toml(args.aiding) if args.aiding else None
     if aiding is not None and not aiding.sensors:
-        raise ImunavError(f"--aiding {args.aiding} has no aiding sensor to simulate ([gnss], "
-                          "[baro], [heading], [nhc] or [zupt])")
+        raise ImunavError(f"--aiding {args.aiding} has no aiding sensor to simulate "
+                          f"({_tables()})")
     inputs = [args.motion, *imu_files] + ([args.aiding] if args.aiding else [])
     out = check_outputs({"--out": args.out, "--truth": args.truth}, inputs)
     if args.aiding_out:
@@ -439,8 +438,8 @@ def cmd_simulate(args) -> int:
         print(f"wrote {counts} to {args.aiding_out}" if files else
               f"wrote no aiding file to {args.aiding_out} (the [zupt] detector \"shoe\" finds "
               "the stance in the IMU data)")
-        for name, (fname, _) in AIDING_FILES.items():      # a filter would read them as new
-            stale = Path(args.aiding_out) / fname
+        for name, spec in AIDS.items():                     # a filter would read them as new
+            stale = Path(args.aiding_out) / spec.file
             if stale.is_file() and stale not in files:
                 print(f"imunav: warning: {stale} is left from before: --aiding {args.aiding} "
                       f"simulates no [{name}]" + (" readings (detector = \"shoe\")"
@@ -467,7 +466,7 @@ def _check_aiding_out(folder: Path, aiding, inputs, outputs) -> None:
         raise ImunavError(f"--aiding-out {folder}: the folder {folder.resolve().parent} does "
                           "not exist")
     names = {f"--aiding-out {folder / fname}": folder / fname
-             for fname, _ in AIDING_FILES.values()}
+             for fname in (spec.file for spec in AIDS.values())}
     check_outputs({**outputs, **names} if folder.is_dir() else dict(outputs), inputs)
 
 
@@ -478,8 +477,7 @@ def cmd_filter(args) -> int:
     out = check_outputs({"--out": args.out}, inputs)
     aiding = AidingConfig.from_toml(args.aiding)
     if not aiding.sensors:
-        raise ImunavError(f"--aiding {args.aiding} has no aiding sensor ([gnss], [baro], "
-                          "[heading], [nhc] or [zupt])")
+        raise ImunavError(f"--aiding {args.aiding} has no aiding sensor ({_tables()})")
     if args.earth == "wgs84" and args.g is not None:
         raise ImunavError("--g belongs to the flat frame: with --earth wgs84 gravity comes from "
                           "the normal gravity model")
@@ -501,7 +499,7 @@ def cmd_filter(args) -> int:
     if aiding.gnss and aiding.gnss.velocity_sigma and data.gnss.values.shape[1] == 3:
         raise ImunavError(f"{meas / 'gnss.csv'} has no velocity columns, but --aiding "
                           f"{args.aiding} sets [gnss] velocity_sigma: drop it, or give the "
-                          f"header {','.join(GNSS_HEADERS[args.earth][0])}")
+                          f"header {','.join(AIDS['gnss'].headers[args.earth][0])}")
     n_rows = len(sig) + (1 if sig.kind == "increments" else 0)
     check_disk(out["--out"], n_rows * (ROW_BYTES["states"] + 9 * 24), "this filter's output")
     detector = aiding.zupt.detector if aiding.zupt else None
@@ -527,11 +525,6 @@ def cmd_filter(args) -> int:
     return 0
 
 
-#: Units of each aid's innovation components, for the statistics table.
-INNOVATION_UNITS = {"gnss": ("m", "m", "m", "m/s", "m/s", "m/s"), "baro": ("m",),
-                    "heading": ("rad",), "nhc": ("m/s", "m/s"), "zupt": ("m/s", "m/s", "m/s")}
-
-
 def format_innovations(innovations: dict) -> str:
     """The innovation statistics per sensor, as ``imunav filter`` prints them.
 
@@ -555,7 +548,7 @@ def format_innovations(innovations: dict) -> str:
         rho = np.asarray(st["lag1"], dtype=float)
         worst = float(rho[np.nanargmax(np.abs(rho))]) if np.isfinite(rho).any() else float("nan")
         band = 1.96 / np.sqrt(max(1, st["readings"] - st["rejected"]))
-        units = INNOVATION_UNITS.get(name, ("",) * st["dof"])
+        units = inn.units or ("",) * st["dof"]
         rms = ", ".join(f"{v:.3g} {u}" for v, u in zip(st["rms"], units, strict=False))
         lines.append(f"  {name:8} {st['readings']:>8} {st['rejected']:>8} "
                      f"{st['mean_nis']:>9.3f} {st['dof']:>3} {worst:>8.3f} {band:>9.3f}  {rms}")
@@ -591,15 +584,17 @@ def cmd_assess(args) -> int:
     return 1 if args.check and not r["suitable"] else 0
 
 
+def _tables() -> str:
+    """The aids' tables, for messages: "[gnss], [baro], … or [odometer]"."""
+    names = [f"[{n}]" for n in AIDS]
+    return ", ".join(names[:-1]) + " or " + names[-1]
+
+
 def _aiding_file(args) -> AidingConfig:
-    """--aiding: the aids of the flat-frame aided filter."""
-    if getattr(args, "earth", "flat") != "flat":
-        raise ImunavError("--aiding works in the flat frame so far (the aided covariance and "
-                          "Monte Carlo on --earth wgs84 are not there yet)")
+    """--aiding: the aids of the aided analysis."""
     aiding = AidingConfig.from_toml(args.aiding)
     if not aiding.sensors:
-        raise ImunavError(f"--aiding {args.aiding} has no aiding sensor ([gnss], [baro], "
-                          "[heading], [nhc] or [zupt])")
+        raise ImunavError(f"--aiding {args.aiding} has no aiding sensor ({_tables()})")
     return aiding
 
 

@@ -14,11 +14,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from imunav.analysis import aided_assessment as A
+from imunav.analysis import aided_design as D
+from imunav.analysis import aided_montecarlo as MC
 from imunav.analysis import outage as O
 from imunav.estimation.error_model import DP
 from imunav.estimation.filters import run_filter, run_filter_batch
 from imunav.io.files import load_motion
-from imunav.sensors.aiding import AidingConfig, simulate_aiding
+from imunav.sensors.aids import AidingConfig, simulate_aiding
 from imunav.sensors.models import ImuModel, measure
 from imunav.sensors.signals import ImuSignals
 from imunav.sensors.simulate import simulate_imu
@@ -43,11 +46,11 @@ def drive():
 def test_covariance_matches_the_filter_monte_carlo_at_the_outage_end(drive):
     imu = ImuModel.load("BMI088")
     aiding = _aiding()
-    at = O.aided_covariance(drive, imu, aiding, RATE, DURATION)
-    t, truth, _, per = O.outage_p95(at, [OUTAGE])
+    at = A.aided_covariance(drive, imu, aiding, RATE, DURATION)
+    t, truth, _, per = A.outage_p95(at, [OUTAGE])
     (o,) = per
     assert o["t_end_s"] == pytest.approx(35.9)          # one covariance step before the fix at 36
-    mc = O.aided_monte_carlo(drive, imu, aiding, RATE, DURATION, 100, seed=3,
+    mc = MC.aided_monte_carlo(drive, imu, aiding, RATE, DURATION, 100, seed=3,
                              times=np.array([27.0, o["t_end_s"]]), progress=False)
     mc_p95 = mc.p95()
     cov_mid = truth[np.searchsorted(t, 27.0 - 1e-9)]
@@ -84,7 +87,7 @@ def test_batch_filter_agrees_with_the_filter_run_by_run(drive):
 def test_filter_and_true_covariance_agree_when_the_models_do(drive):
     imu = ImuModel.load("MPU-6050")
     aiding = _aiding(correlated_sigma=2.0, correlation_time=60.0)
-    at = O.aided_covariance(drive, imu, aiding, RATE, 25.0)
+    at = A.aided_covariance(drive, imu, aiding, RATE, 25.0)
     wf, wt, _ = at.weights(initial_error=True)
     res = at.propagate(wf, wt)
     np.testing.assert_allclose(res.truth_post[0, 0], res.filter_post[0], rtol=1e-9,
@@ -95,32 +98,32 @@ def test_a_correlated_error_treated_as_white_is_worse_than_the_filter_believes(d
     imu = ImuModel.load("BMI088")
     aiding = _aiding(correlated_sigma=3.0, correlation_time=100.0, correlated_model="white",
                      outages=[])
-    at = O.aided_covariance(drive, imu, aiding, RATE, 25.0)
+    at = A.aided_covariance(drive, imu, aiding, RATE, 25.0)
     assert at.filter_states.sum() < at.n           # the filter lacks the correlated states
-    t, truth, filt, _ = O.outage_p95(at, [])
+    t, truth, filt, _ = A.outage_p95(at, [])
     late = t > 10
     # the white treatment averages the fixes as if independent: the truth is worse, the more
     # so the more fixes it has averaged
     assert np.all(truth[late] > filt[late]) and truth[-1] > 1.3 * filt[-1]
     # and the real filter, on sensors with the correlated error, shows the true covariance
-    mc = O.aided_monte_carlo(drive, imu, aiding, RATE, 25.0, 80, seed=5,
+    mc = MC.aided_monte_carlo(drive, imu, aiding, RATE, 25.0, 80, seed=5,
                              times=np.array([25.0]), progress=False)
     assert abs(mc.p95()[0] / truth[-1] - 1) < 0.15, (mc.p95(), truth[-1], filt[-1])
-    r = O.assess_aided(drive, imu, aiding, RATE, 50.0, 25.0, budget=False, progress=False)
+    r = A.assess_aided(drive, imu, aiding, RATE, 50.0, 25.0, budget=False, progress=False)
     assert any("believes its position better" in w for w in r["warnings"])
 
 
 def test_the_budget_adds_up_to_the_total(drive):
     imu = ImuModel.load("BMI088")
     aiding = _aiding()
-    at = O.aided_covariance(drive, imu, aiding, RATE, DURATION, terms=True)
-    act = O._active(at, [[OUTAGE]])
+    at = A.aided_covariance(drive, imu, aiding, RATE, DURATION, terms=True)
+    act = A.active_fixes(at, [[OUTAGE]])
     wf, wt, names = at.weights(split=True)
     split = at.propagate(wf, wt, act, keep=False).final[0, 1:]
     wf1, wt1, _ = at.weights()
     total = at.propagate(wf1, wt1, act, keep=False).final[0, 1]
     np.testing.assert_allclose(split.sum(axis=0)[DP, DP], total[DP, DP], rtol=1e-9)
-    budget = O.outage_budget(at, [OUTAGE], 35.9)
+    budget = A.outage_budget(at, [OUTAGE], 35.9)
     assert set(budget) <= set(names) and list(budget.values()) == sorted(budget.values(),
                                                                          reverse=True)
     assert "gyro.noise_density" in budget
@@ -129,16 +132,16 @@ def test_the_budget_adds_up_to_the_total(drive):
 def test_find_outage_is_the_longest_within_the_tolerance(drive):
     imu = ImuModel.load("BMI088")
     aiding = _aiding()
-    at = O.aided_covariance(drive, imu, aiding, RATE, 120.0)
+    at = A.aided_covariance(drive, imu, aiding, RATE, 120.0)
     tol = 15.0
     f = O.find_outage(drive, imu, aiding, RATE, tol, 120.0, at=at, budget=False)
     L, s = f["max_outage_s"], f["outage_start_s"]
     assert 3 <= L and not f["limited_by_motion"]
     # an independent pass with that outage stays within; one GNSS interval longer does not
-    (o,) = O.outage_p95(at, [(s, s + L)])[3]
+    (o,) = A.outage_p95(at, [(s, s + L)])[3]
     assert o["position_p95_max_m"] <= tol
     assert o["position_p95_end_m"] == pytest.approx(f["position_p95_end_m"], rel=1e-9)
-    (o2,) = O.outage_p95(at, [(s, s + L + 1.0)])[3]
+    (o2,) = A.outage_p95(at, [(s, s + L + 1.0)])[3]
     assert o2["position_p95_max_m"] > tol
     # placed elsewhere, it bridges at least as long (s is where it hurts most)
     for s2 in (30.0, 60.0):
@@ -153,16 +156,16 @@ def test_filter_monte_carlo_on_dask_is_the_local_run_bit_for_bit(drive):
     kw = {"seed": 4, "times": np.array([5.0, 8.0]), "progress": False}
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
                                   dashboard_address=None) as cluster:
-        d = O.aided_monte_carlo(drive, imu, aiding, 20.0, 8.0, O.MC_CHUNK + 2,
+        d = MC.aided_monte_carlo(drive, imu, aiding, 20.0, 8.0, MC.MC_CHUNK + 2,
                                 scheduler=cluster.scheduler_address, **kw)
-    loc = O.aided_monte_carlo(drive, imu, aiding, 20.0, 8.0, O.MC_CHUNK + 2, **kw)
-    assert d.runs == O.MC_CHUNK + 2
+    loc = MC.aided_monte_carlo(drive, imu, aiding, 20.0, 8.0, MC.MC_CHUNK + 2, **kw)
+    assert d.runs == MC.MC_CHUNK + 2
     assert np.array_equal(d.position_error, loc.position_error)
 
 
 def test_common_scale_is_the_largest_imu_factor_within_the_tolerance(drive):
-    at = O.aided_covariance(drive, ImuModel.load("BMI088"), _aiding(), RATE, 60.0)
+    at = A.aided_covariance(drive, ImuModel.load("BMI088"), _aiding(), RATE, 60.0)
     tol = 15.0
-    k = O.common_scale(at, tol, [OUTAGE])
-    assert O.outage_p95(at, [OUTAGE], imu_scale=k)[1].max() <= tol
-    assert O.outage_p95(at, [OUTAGE], imu_scale=k * 1.05)[1].max() > tol
+    k = D.common_scale(at, tol, [OUTAGE])
+    assert A.outage_p95(at, [OUTAGE], imu_scale=k)[1].max() <= tol
+    assert A.outage_p95(at, [OUTAGE], imu_scale=k * 1.05)[1].max() > tol

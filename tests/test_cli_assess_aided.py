@@ -107,7 +107,6 @@ def test_design_find_outage(files, capsys):
     (["--find", "outage"], "--find and --outage-start need --aiding"),
     (["--aiding", "A", "--outage-start", "3"], "--outage-start applies to --find outage"),
     (["--aiding", "A", "--find", "outage", "--outage-start", "500"], "--outage-start must be"),
-    (["--aiding", "A", "--earth", "wgs84", "--origin", "45,7,100"], "flat frame"),
     (["--aiding", "EMPTY"], "no aiding sensor"),
     (["--aiding", "A", "--find", "walk"], "invalid choice"),
 ])

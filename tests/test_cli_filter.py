@@ -176,7 +176,7 @@ def test_bad_measurement_files(sim, tmp_path, capsys, edit, fragment):
     (AIDING.replace("position_sigma = 1.5", "position_sigma = -1.5"),
      "[gnss] position_sigma must be a positive number"),
     (AIDING + "speed = 3\n", "unknown key(s) in [heading]: speed"),
-    (AIDING + "[odometer]\nsigma = 1\n", "unknown table(s) in AIDING file: odometer"),
+    (AIDING + "[magnetometer]\nsigma = 1\n", "unknown table(s) in AIDING file: magnetometer"),
     ("[gnss]\nrate = 1\n", "[gnss] position_sigma (m) is required"),
     ("", "has no aiding sensor"),
     ("[gnss\n", "malformed TOML"),

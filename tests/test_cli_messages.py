@@ -6,6 +6,7 @@ printed once, no empty unit ``()``, "positive" for > 0 and "non-negative" for â‰
 given for the measurements folder is called a file."""
 
 import re
+from pathlib import Path
 
 import pytest
 
@@ -129,13 +130,17 @@ def test_a_measurement_file_without_its_table_is_named(sim, tmp_path, capsys):
         assert any(str(sim / "meas" / fname) in ln and table in ln for ln in warned), err
 
 
-def test_zupt_in_assess_names_the_zupt_table(sim, tmp_path, capsys):
+def test_zupt_in_assess_answers_for_a_motion_that_starts_at_rest(capsys, tmp_path):
+    """``assess --aiding`` with ``[zupt]`` used to refuse every motion standing still at its
+    start (every foot walk): the zero-velocity updates at the very start now act on the
+    initial covariance, and the walk gets a verdict (exit 0 or 1 under --check)."""
+    walk = Path(__file__).resolve().parents[1] / "examples" / "walk.toml"
     a = tmp_path / "z.toml"
     a.write_text("[zupt]\nsigma = 0.01\n")
-    msg = _error(capsys, "assess", sim / "drive.toml", "--imu", "ADIS16470", "--rate", 50,
-                 "--tolerance", 5, "--aiding", a)
-    assert "[zupt]" in msg and "stands still" in msg
-    assert "half the IMU rate" not in msg
+    code, out, err = _run(capsys, "assess", walk, "--imu", "ADIS16470", "--rate", 100,
+                          "--tolerance", 1, "--aiding", a, "--check")
+    assert code in (0, 1), err
+    assert "with zupt" in out and ("SUITABLE" in out)
 
 
 def test_a_path_is_printed_once(sim, capsys):

@@ -13,10 +13,11 @@ from scipy.linalg import block_diag
 from scipy.stats import chi2
 
 from imunav import Motion
-from imunav.analysis.aided import filter_monte_carlo
+from imunav.analysis.aided_montecarlo import filter_monte_carlo
 from imunav.core.kernels import quat_exp, quat_mul
 from imunav.estimation import DP, DV, FLAT, NAV, PHI, Trajectory, linearise, predict, update, van_loan
-from imunav.estimation.filters import AidedSystem, run_filter
+from imunav.estimation.filters import run_filter
+from imunav.estimation.kalman import predict_blocks
 from imunav.estimation.measurements import (
     Baro,
     GnssFix,
@@ -27,8 +28,9 @@ from imunav.estimation.measurements import (
     euler_jacobian,
 )
 from imunav.estimation.smoother import rts
+from imunav.estimation.system import AidedSystem
 from imunav.motion.catalog import figure_eight
-from imunav.sensors.aiding import AidingConfig, AidingData, Readings, simulate_aiding
+from imunav.sensors.aids import AidingConfig, simulate_aiding
 from imunav.sensors.models import ImuModel
 from imunav.sensors.simulate import simulate_imu
 
@@ -171,40 +173,42 @@ def test_joint_system_of_one_source_is_the_error_models_discretise():
 
 
 def test_structured_prediction_equals_the_full_product(rng):
-    """``AidedSystem.predict`` (block form) equals ``Φ P Φᵀ + Q_d`` (kalman.predict)."""
-    sysm = _system(aids=[Baro(0.5, 0.01)])
+    """The Kalman core's block prediction (``kalman.predict_blocks`` on the blocks of
+    ``AidedSystem.steps``: what every filter and analysis propagates with) equals the plain
+    ``Φ P Φᵀ + Q_d`` written out here with the whole matrices."""
+    gnss = GnssFix(1.0, 0.1, correlated_sigma=2.0, correlation_time=30.0)
+    sysm = _system(aids=[gnss, Baro(0.5, 0.01)])
     traj = Trajectory.of(figure_eight(), 10.0, 1.0)
-    Phi, Qd = sysm.discretise(traj)
+    st = sysm.steps(traj, 0.07)
+    Phi, Qd = st.full()
     A = rng.normal(size=(sysm.n, sysm.n))
     P = A @ A.T
     for i in range(traj.steps):
-        _, want = predict(np.zeros(sysm.n), P, Phi[i], Qd[i])
-        got = sysm.predict(P, Phi[i], Qd[i])
+        want = Phi[i] @ P @ Phi[i].T + Qd[i]
+        got = predict_blocks(P, *st.step(i))
         np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
+        _, dense = predict(np.zeros(sysm.n), P, Phi[i], Qd[i])
+        np.testing.assert_allclose(dense, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
         P = want
 
 
-@pytest.mark.parametrize("full", [False, True])
-def test_the_blocks_of_a_step_are_the_whole_step(rng, full):
-    """``AidedSystem.steps`` (what the filter's loop propagates with: no (N, n, n) ``Q_d``, on
-    the flat frame no whole ``Φ``) holds the numbers of ``discretise`` bit for bit, and
-    ``predict_step`` gives those of ``predict``: the speed-up changed no result."""
+def test_the_blocks_of_a_step_are_the_whole_step():
+    """``AidedSystem.steps`` holds the numbers of ``discretise``: its ``Φ`` has the sensor and
+    aid states evolve on their own (zero lower-left block, a constant diagonal), its ``Q_d``
+    the same constant diagonal block, and the navigation rows equal the error model's own
+    closed-form transition."""
     gnss = GnssFix(1.0, 0.1, correlated_sigma=2.0, correlation_time=30.0)
     sysm = _system(aids=[gnss, Baro(0.5, 0.01)])
     traj = Trajectory.of(figure_eight(), 10.0, 1.0)
     Phi, Qd = sysm.discretise(traj, 0.07)
-    st = sysm.steps(traj, 0.07, full=full)
     k = NAV
-    assert (st.Phi is None) != full
-    assert np.array_equal(st.F, Phi[:, :k, :k]) and np.array_equal(st.G, Phi[:, :k, k:])
-    assert np.array_equal(st.E, np.diagonal(Phi, axis1=1, axis2=2)[:, k:])
-    assert np.array_equal(st.Qnn, Qd[:, :k, :k]) and np.array_equal(st.Qns, Qd[:, :k, k:])
-    assert np.array_equal(np.broadcast_to(np.diag(st.qss), Qd[:, k:, k:].shape), Qd[:, k:, k:])
-    A = rng.normal(size=(sysm.n, sysm.n))
-    P = Q = A @ A.T
-    for i in range(traj.steps):
-        P, Q = sysm.predict(P, Phi[i], Qd[i]), sysm.predict_step(Q, st, i)
-        assert np.array_equal(P, Q)
+    full = sysm.model.transition(traj, sysm.sensor_input(traj), sysm.D, 0.07)
+    np.testing.assert_allclose(Phi[:, :k], full[:, :k], rtol=1e-13, atol=1e-15)
+    assert not Phi[:, k:, :k].any()
+    assert np.array_equal(Phi[:, k:, k:], np.broadcast_to(np.diag(np.exp(sysm.D * 0.07)),
+                                                          Phi[:, k:, k:].shape))
+    assert np.array_equal(Qd[:, k:, k:], np.broadcast_to(Qd[0, k:, k:], Qd[:, k:, k:].shape))
+    assert np.count_nonzero(Qd[0, k:, k:] - np.diag(np.diagonal(Qd[0, k:, k:]))) == 0
 
 
 def test_layout_has_every_term_and_aid_state():
@@ -432,10 +436,8 @@ def test_zupt_bounds_the_drift_of_a_still_imu(detector):
     res = run_filter(sig, st.quaternion[0], st.velocity[0], st.position[0], cfg, data, imu=imu,
                      algorithm="exact_exponential")
     assert res.innovations["zupt"].t.size == 601                   # every node
-    free = AidingConfig.from_dict({"baro": {"rate": 1, "sigma": 1e6}})  # (an aid of no weight)
-    unaided = run_filter(sig, st.quaternion[0], st.velocity[0], st.position[0], free,
-                         AidingData(baro=Readings(np.arange(1.0, 13.0), np.zeros((12, 1)))),
-                         imu=imu, algorithm="exact_exponential")
+    unaided = run_filter(sig, st.quaternion[0], st.velocity[0], st.position[0],
+                         measurements=[], imu=imu, algorithm="exact_exponential")
     assert np.abs(unaided.states.position[-1]).max() > 1.0          # 5 mg · 12² / 2 = 3.5 m
     assert np.abs(res.states.position).max() < 0.01
     v_err = np.abs(res.states.velocity[50:])

@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 from test_estimation_filter import IMU_TERMS, assert_consistent, assert_white, drive
 
-from imunav.analysis.aided import filter_monte_carlo
-from imunav.estimation.filters import _Earth, build_measurements
+from imunav.analysis.aided_montecarlo import filter_monte_carlo
+from imunav.estimation.inertial import EarthSide
 from imunav.estimation.measurements import Baro, GnssFix, Heading, Nhc, Zupt
 from imunav.motion.geodetic import EarthMotion
-from imunav.sensors.aiding import AidingConfig
+from imunav.sensors.aids import AidingConfig, build_measurements
 
 ORIGIN = (np.radians(50.0), np.radians(30.0), 200.0)
 
@@ -23,9 +23,8 @@ def _nav_state():
     by 15° from ECEF), its inertial form."""
     m = EarthMotion(drive(100.0), ORIGIN)
     st = m.states(np.array([40.0]))
-    E = _Earth(0.01, -3600.0, st.quaternion[0], st.velocity[0], st.position[0])
-    (q, v, r), _ = E.state(-3600.0)             # the inertial state (the time is not used)
-    return E, (q, v, r)
+    E = EarthSide(0.01, -3600.0, st.quaternion[0], st.velocity[0], st.position[0])
+    return E, E.state()                         # the inertial state
 
 
 @pytest.mark.parametrize("meas", [
@@ -47,11 +46,12 @@ def test_earth_jacobians_match_finite_differences(meas):
               "baro": np.array([190.0]), "heading": np.array([0.3]), "nhc": np.zeros(2),
               "zupt": np.zeros(3)}[meas.name]
     if meas.name == "gnss":                            # near the state (linearity)
-        _, loc = E.state(t)
+        loc = E.local(t, *inertial)
         values[:3] = loc[2] + np.array([3e-7, -2e-7, 2.0])
 
     def z(x):
-        nav, vals, M = E.reading(t, inertial, x, omega, 0.0, est, Mg, meas.name, values)
+        nav, lla, M = E.reading(t, inertial, x, omega, 0.0, est, Mg)
+        vals = meas.localise(values, lla)
         return meas.residual(meas.predict(nav), vals), meas.jacobian(nav), M
 
     rng = np.random.default_rng(2)
@@ -71,14 +71,15 @@ def test_earth_gnss_fix_is_the_ned_offset():
     is ``C_ni`` (orthonormal, its down row the local down)."""
     E, inertial = _nav_state()
     t = 0.0                                      # an hour after the inertial frame was ECEF
-    _, (q, v, lla) = E.state(t)
+    q, v, lla = E.local(t, *inertial)
     from imunav.earth import radii
     rn, re = radii(lla[0])
     fix = lla + np.array([10.0 / (rn + lla[2]), 5.0 / ((re + lla[2]) * np.cos(lla[0])), 2.0])
     g = GnssFix(1.0)
     g.bind({})
-    nav, vals, M = E.reading(t, inertial, np.zeros(9), np.zeros(3), 0.0, np.zeros(9),
-                             np.zeros((3, 9)), "gnss", fix)
+    nav, lla_est, M = E.reading(t, inertial, np.zeros(9), np.zeros(3), 0.0, np.zeros(9),
+                                np.zeros((3, 9)))
+    vals = g.localise(fix, lla_est)
     np.testing.assert_allclose(g.residual(g.predict(nav), vals), [-10.0, -5.0, 2.0], atol=2e-5)
     C = (g.jacobian(nav) @ M)[:, 6:9]
     np.testing.assert_allclose(C @ C.T, np.eye(3), atol=1e-12)

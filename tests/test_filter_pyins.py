@@ -18,7 +18,7 @@ from imunav.earth import ned_difference
 from imunav.estimation.filters import run_filter
 from imunav.motion import Motion
 from imunav.motion.geodetic import EarthMotion
-from imunav.sensors.aiding import AidingConfig, simulate_aiding
+from imunav.sensors.aids import AidingConfig, simulate_aiding
 from imunav.sensors.models import ImuModel
 from imunav.sensors.simulate import simulate_imu
 
@@ -75,7 +75,7 @@ def side_by_side(seconds: float, rate: float = 100.0, seed: int = 5, first: floa
                                   "initial": INITIAL})
     data = simulate_aiding(motion, cfg, seconds, seed=seed)
     if first is not None and first < seconds:
-        from imunav.sensors.aiding import AidingData, Readings
+        from imunav.sensors.aids import AidingData, Readings
         from imunav.sensors.signals import ImuSignals
         n = int(round(first * rate))
         sig = ImuSignals(sig.t[:n], sig.gyro[:n], sig.accel[:n], sig.kind, sig.rate, sig.g)

@@ -18,12 +18,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from imunav.analysis import aided_assessment as A
+from imunav.analysis import aided_design as D
 from imunav.analysis import outage as O
 from imunav.analysis.gaussnorm import norm_quantile
 from imunav.cli import main
 from imunav.estimation.error_model import DP
 from imunav.io.files import load_motion
-from imunav.sensors.aiding import AidingConfig
+from imunav.sensors.aids import AidingConfig
 from imunav.sensors.models import ImuModel
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -45,8 +47,8 @@ def aiding():
 @pytest.fixture(scope="module")
 def adis(drive, aiding):
     imu = ImuModel.load("ADIS16470")
-    at = O.aided_covariance(drive, imu, aiding, RATE, DURATION, terms=True)
-    return imu, at, O.term_limits(at, 10.0, [OUTAGE])
+    at = A.aided_covariance(drive, imu, aiding, RATE, DURATION, terms=True)
+    return imu, at, D.term_limits(at, 10.0, [OUTAGE])
 
 
 def _with(imu: ImuModel, term: str, value: float) -> ImuModel:
@@ -60,8 +62,8 @@ def test_a_term_at_its_limit_meets_the_tolerance_in_a_fresh_analysis(drive, aidi
     lim = limits[term]
     base = getattr(getattr(imu, term.split(".")[0]), term.split(".")[1])
     assert lim["limit_si"] > base                # this IMU passes (5.7 m), so it may be worse
-    at = O.aided_covariance(drive, _with(imu, term, lim["limit_si"]), aiding, RATE, DURATION)
-    worst = O.outage_p95(at, [OUTAGE])[1].max()
+    at = A.aided_covariance(drive, _with(imu, term, lim["limit_si"]), aiding, RATE, DURATION)
+    worst = A.outage_p95(at, [OUTAGE])[1].max()
     assert 0.99 * 10.0 <= worst <= 10.0, (term, lim, worst)
     assert lim["max_p95_at_limit_m"] == pytest.approx(worst, rel=1e-6)
 
@@ -69,7 +71,7 @@ def test_a_term_at_its_limit_meets_the_tolerance_in_a_fresh_analysis(drive, aidi
 def test_the_limit_with_the_filter_kept_at_the_base_tuning(adis):
     imu, at, limits = adis
     names = [i.name for i in at.ingredients]
-    act = O._active(at, [[OUTAGE]])
+    act = A.active_fixes(at, [[OUTAGE]])
     for term in ("gyro.bias_instability", "accel.noise_density"):
         lim = limits[term]
         triad, _, name = term.partition(".")
@@ -89,24 +91,24 @@ def test_the_limit_with_the_filter_kept_at_the_base_tuning(adis):
 
 def test_no_limit_when_the_other_sources_alone_exceed_the_tolerance(drive, aiding):
     imu = ImuModel.load("BMI088")
-    at = O.aided_covariance(drive, imu, aiding, RATE, DURATION, terms=True)
-    limits = O.term_limits(at, 15.0, [OUTAGE])
+    at = A.aided_covariance(drive, imu, aiding, RATE, DURATION, terms=True)
+    limits = D.term_limits(at, 15.0, [OUTAGE])
     lim = limits["gyro.noise_density"]
     assert lim["limit_si"] == 0.0 and "alone exceed" in lim["note"]
     # the term nearly gone, the filter tuned to it, the rest still exceeds 15 m
-    tiny = O.aided_covariance(drive, _with(imu, "gyro.noise_density", 1e-9), aiding, RATE,
+    tiny = A.aided_covariance(drive, _with(imu, "gyro.noise_density", 1e-9), aiding, RATE,
                               DURATION)
-    assert O.outage_p95(tiny, [OUTAGE])[1].max() > 15.0
+    assert A.outage_p95(tiny, [OUTAGE])[1].max() > 15.0
 
 
 def test_presets_ranked_through_the_outages(drive, aiding):
     names = ["BMI088", "tactical", "ADIS16470"]
-    rows = O.rank_presets(drive, aiding, RATE, 10.0, DURATION, presets=names, find="outage")
+    rows = D.rank_presets(drive, aiding, RATE, 10.0, DURATION, presets=names, find="outage")
     assert [r["name"] for r in rows] == ["tactical", "ADIS16470", "BMI088"]
     for r in rows:
         imu = ImuModel.load(r["name"])
-        at = O.aided_covariance(drive, imu, aiding, RATE, DURATION)
-        _, truth, _, _ = O.outage_p95(at, [OUTAGE])
+        at = A.aided_covariance(drive, imu, aiding, RATE, DURATION)
+        _, truth, _, _ = A.outage_p95(at, [OUTAGE])
         assert r["max_p95_position_m"] == pytest.approx(truth.max(), rel=1e-9)
         assert r["final_p95_position_m"] == pytest.approx(truth[-1], rel=1e-9)
         assert r["suitable"] == (truth.max() <= 10.0)
@@ -168,7 +170,7 @@ def test_a_preset_beyond_the_linearisation_ranks_last(drive):
     but the MPU-6050's attitude error leaves the linearisation (its turn-on bias), so its
     small number is not the real EKF's: it ranks last, flagged."""
     aiding = AidingConfig.from_toml(ROOT / "examples" / "drive_aiding.toml")
-    rows = O.rank_presets(drive, aiding, 20.0, 10.0, 240.0, presets=["MPU-6050", "BNO055"])
+    rows = D.rank_presets(drive, aiding, 20.0, 10.0, 240.0, presets=["MPU-6050", "BNO055"])
     assert [r["name"] for r in rows] == ["BNO055", "MPU-6050"]
     assert rows[1]["outside_linearisation"] and not rows[0]["outside_linearisation"]
     assert rows[1]["max_p95_position_m"] < rows[0]["max_p95_position_m"]
@@ -177,7 +179,7 @@ def test_a_preset_beyond_the_linearisation_ranks_last(drive):
 def test_a_gain_error_beyond_the_small_error_model_is_flagged(adis):
     _, _, limits = adis
     acc = limits["accel.misalignment"]
-    assert acc["limit_si"] > O.GAIN_VALID and "small-error model" in acc["note"]
+    assert acc["limit_si"] > D.GAIN_VALID and "small-error model" in acc["note"]
     assert limits["gyro.noise_density"]["note"] is None
 
 
@@ -185,8 +187,8 @@ def test_limit_words_agree_between_text_and_json(adis):
     """A newcomer read 'none' in the table where the JSON said '0 deg/h', and 'unbounded' in
     the table where the JSON said 'none': one word per meaning, in both."""
     imu, at, _ = adis
-    zero = O.term_limits(at, 0.5, [OUTAGE])                 # far below what any term allows
-    big = O.term_limits(at, 1e9, [OUTAGE])                  # far above the whole error
+    zero = D.term_limits(at, 0.5, [OUTAGE])                 # far below what any term allows
+    big = D.term_limits(at, 1e9, [OUTAGE])                  # far above the whole error
     z = zero["gyro.noise_density"]
     assert z["limit_si"] == 0.0 and z["limit"].startswith("0 ")
     u = big["gyro.noise_density"]
@@ -194,7 +196,7 @@ def test_limit_words_agree_between_text_and_json(adis):
     r = {"motion": "m", "imu": imu.name, "rate_hz": RATE, "tolerance_m": 0.5, "aiding": ["gnss"],
          "terms": {"gyro.noise_density": z, "accel.noise_density": big["accel.noise_density"]},
          "warnings": []}
-    text = O.format_outage_design(r)
+    text = D.format_outage_design(r)
     row = [ln for ln in text.splitlines() if "gyro.noise_density" in ln][0]
     assert " none " not in row and "0 °/√h" in row                  # the printed spelling
     row = [ln for ln in text.splitlines() if "accel.noise_density" in ln][0]

@@ -11,7 +11,7 @@ from imunav import Motion, WaypointMotion
 from imunav.core.constants import DEG
 from imunav.core.kernels import quat_rotate, quat_to_dcm
 from imunav.core.validation import ImunavError
-from imunav.sensors.aiding import (
+from imunav.sensors.aids import (
     AidingConfig,
     intervals_of,
     shoe_intervals,
@@ -26,7 +26,7 @@ EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "aiding.toml"
 
 def test_example_lists_every_key():
     """examples/aiding.toml has every key of every table (the commented [zupt] too)."""
-    from imunav.sensors.aiding import SECTIONS
+    from imunav.sensors.aids import SECTIONS
 
     text = EXAMPLE.read_text()
     for section, cls in SECTIONS.items():
@@ -219,7 +219,7 @@ def test_outages_overlapping_or_outside_the_record_are_refused():
     import pytest as _pytest
 
     from imunav.core.validation import ImunavError
-    from imunav.sensors.aiding import AidingConfig
+    from imunav.sensors.aids import AidingConfig
 
     with _pytest.raises(ImunavError, match=r"outages\[1\].*without overlaps"):
         AidingConfig.from_dict({"gnss": {"rate": 1, "position_sigma": 1.0,

@@ -102,7 +102,7 @@ def test_the_closed_forms_of_a_block_equal_the_general_rules():
     """The block's fast paths against the general code they replace: the trapezoid
     corrections' closed form against the 2-node rule of ``_integrals`` and ``_displacement``,
     and the series of the Earth's turn against ``np.cos``/``np.sin`` over a whole block."""
-    from imunav.strapdown import earth as SE
+    from imunav.strapdown import rotating as SE
 
     rng = np.random.default_rng(3)
     integ = SE.EarthIntegrator(0.01, 0.0, [1.0, 0, 0, 0], np.zeros(3), ORIGIN)

@@ -200,7 +200,7 @@ def test_earth_navigation_runs_its_gravity_products_on_one_blas_thread(two_threa
     two-thread product waited for its descheduled thread)."""
     from imunav import navigate
     from imunav.motion import EarthMotion
-    from imunav.strapdown.earth import EarthIntegrator
+    from imunav.strapdown.rotating import EarthIntegrator
 
     seen = []
     real = EarthIntegrator._integrals

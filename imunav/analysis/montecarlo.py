@@ -342,24 +342,8 @@ def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: floa
         yaw0 = float(quat_to_euler(truth_q[0])[0])
     task = MonteCarloTask(gyro, accel, output, rate * k, k, model, rate, g, truth_q,
                           truth_v, truth_p, algorithm, motion.frame, vertical, n_align, yaw0)
-    if scheduler:
-        try:
-            from dask.distributed import Client
-        except ImportError:
-            raise ImunavError("scheduler needs the dask extra: pip install 'imunav[dask]'",
-                              argument="scheduler") from None
-        with Client(scheduler) as client:
-            futs = [client.submit(_mc_chunk, task, part, pure=False) for part in parts]
-            results = client.gather(futs)
-    else:
-        results = []
-        bar = _progress(len(parts), runs * n_out, progress)
-        for part in parts:
-            results.append(_mc_chunk(task, part))
-            if bar is not None:
-                bar.update(1)
-        if bar is not None:
-            bar.close()
+    results = run_chunks(_mc_chunk, task, [(part,) for part in parts], scheduler=scheduler,
+                         bar=_progress(len(parts), runs * n_out, progress))
     pos, vel, att, sat = (np.concatenate([r[i] for r in results]) for i in range(4))
     hor = None if results[0][4] is None else np.concatenate([r[4] for r in results])
     return MonteCarloResult(t, pos, vel, att, sat, model.name, rate, output, hor, alignment)
@@ -370,6 +354,78 @@ def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: floa
 #: 1e6 samples take tens of seconds).
 PROGRESS_WORK = 5e6
 PROGRESS_DELAY = 2.0
+
+
+def run_chunks(func, task, parts: list[tuple], *, scheduler: str | None = None,
+               workers: int | None = None, bar=None, progress: bool = False,
+               total: int | None = None, desc: str = "Monte Carlo", unit: str = "run") -> list:
+    """``func(task, *part)`` for every part, in order — here, on a Dask cluster at
+    ``scheduler``, or on ``workers`` local processes (a Dask ``LocalCluster``): the one
+    dispatcher of imunav's Monte Carlo runs. The parts are fixed by the caller, so the results
+    are the same wherever they run.
+
+    Parameters
+    ----------
+    func : callable
+        A module-level function (it is sent to other processes).
+    task : object
+        What every part shares (picklable).
+    parts : list of tuple
+        The other arguments of each call.
+    scheduler : str, optional
+        A Dask scheduler's address.
+    workers : int, optional
+        Local worker processes (a ``LocalCluster``; ``imunav[dask]``).
+    bar : tqdm, optional
+        Updated by one per part (local runs).
+    progress : bool
+        Without ``bar``: a bar of ``total`` items (each part's first argument's length).
+    total : int, optional
+    desc, unit : str
+        The bar's words.
+
+    Returns
+    -------
+    list
+        The results of the parts, in order.
+
+    Raises
+    ------
+    ImunavError
+        For ``scheduler`` or ``workers`` without dask installed, or both given.
+    """
+    if scheduler and workers:
+        raise ImunavError("give scheduler or workers, not both", argument="workers")
+    if scheduler or (workers and workers > 1):
+        try:
+            from dask.distributed import Client, LocalCluster
+        except ImportError:
+            raise ImunavError("scheduler and workers need the dask extra: pip install "
+                              "'imunav[dask]'", argument="scheduler" if scheduler else
+                              "workers") from None
+        if scheduler:
+            with Client(scheduler) as client:
+                return client.gather([client.submit(func, task, *p, pure=False)
+                                      for p in parts])
+        with LocalCluster(n_workers=int(workers), threads_per_worker=1, processes=True,
+                          dashboard_address=None) as cluster, Client(cluster) as client:
+            fut = client.scatter(task, broadcast=True)
+            return client.gather([client.submit(func, fut, *p, pure=False) for p in parts])
+    own = None
+    if bar is None and progress and len(parts) > 1:
+        from tqdm.auto import tqdm
+        own = tqdm(total=total or len(parts), desc=desc, unit=unit)
+    results = []
+    for p in parts:
+        results.append(func(task, *p))
+        if bar is not None:
+            bar.update(1)
+        if own is not None:
+            own.update(len(p[0]) if total else 1)
+    for b in (bar, own):
+        if b is not None:
+            b.close()
+    return results
 
 
 def _interactive() -> bool:

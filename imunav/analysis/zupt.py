@@ -3,7 +3,7 @@ detector find the stances?
 
 :func:`zupt_walk` simulates an IMU on a walk (:func:`imunav.motion.foot.foot_walk`), finds the
 stances (the motion's true stance phases, ``detector="truth"``, or the SHOE detector on the IMU
-data, ``"shoe"``, :func:`imunav.sensors.aiding.shoe_intervals`) and runs the error-state filter
+data, ``"shoe"``, :func:`imunav.sensors.aids.shoe_intervals`) and runs the error-state filter
 (:func:`imunav.estimation.filters.run_filter`) with a zero-velocity update at the filter's nodes
 inside each stance, thinned to ``zupt_rate`` (each stance's first and last node always kept):
 the filter's cost is one strapdown segment per update, and updates every 0.2 s carry almost all
@@ -25,7 +25,7 @@ from imunav.core.kernels import FloatArray
 from imunav.core.validation import ImunavError, check_positive
 from imunav.estimation.filters import FilterResult, run_filter
 from imunav.motion.base import BaseMotion
-from imunav.sensors.aiding import AidingConfig, AidingData, shoe_intervals, shoe_statistic
+from imunav.sensors.aids import AidingConfig, AidingData, shoe_intervals, shoe_statistic
 from imunav.sensors.models import ImuModel, MeasureStream
 from imunav.sensors.signals import ImuSignals
 from imunav.sensors.simulate import CHUNK, interval_count, simulate_imu
@@ -220,7 +220,7 @@ def zupt_walk(motion: BaseMotion, imu: ImuModel | str, rate: float = 100.0, *,
     zupt_rate : float or None
         Updates per second within a stance (None: at every IMU node).
     threshold, window : float, int
-        The SHOE detector's (:func:`imunav.sensors.aiding.shoe_intervals`).
+        The SHOE detector's (:func:`imunav.sensors.aids.shoe_intervals`).
     seed : int
         The IMU's random seed.
     algorithm : str, optional

@@ -13,24 +13,24 @@ For a step ``h`` with the motion held at the step's midpoint, the continuous sys
 - :func:`van_loan`: both from the matrix exponential of ``[[−F, Q_c], [0, Fᵀ]] h`` (Van Loan
   1978) for any ``F``: the general method (a frame whose ``A`` is not nilpotent), and the
   independent check of the closed forms.
-- :class:`StepBlocks`: the same discrete system kept in its blocks — the navigation transition,
-  the sensor-state input ``Γ``, the sensor states' diagonal decay, and the blocks of ``Q_d`` —
-  which is what the covariance propagation works on (:func:`blocks_from_full` splits a full
-  ``(Φ, Q_d)``).
+- :func:`blocks_from_full`: a full ``(Φ, Q_d)`` split into the blocks of
+  :class:`~imunav.estimation.kalman.StepBlocks` (the navigation transition, the sensor-state
+  input ``Γ``, the sensor states' diagonal decay, the blocks of ``Q_d``), which is what every
+  prediction works on.
 
-May import: ``imunav.core``.
+May import: ``imunav.core``, ``imunav.estimation.kalman``.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
 
 import numpy as np
 from scipy.linalg import expm
 
 from imunav.core.kernels import FloatArray
+from imunav.estimation.kalman import StepBlocks
 
 __all__ = ["GAUSS_LEGENDRE", "StepBlocks", "blocks_from_full", "flat_transition", "phi_functions",
            "process_noise", "van_loan"]
@@ -188,64 +188,6 @@ def van_loan(F: FloatArray, Qc: FloatArray, h: float) -> tuple[FloatArray, Float
     Phi = np.swapaxes(E[:, n:, n:], 1, 2)
     Qd = Phi @ E[:, :n, n:]
     return Phi, 0.5 * (Qd + np.swapaxes(Qd, 1, 2))
-
-
-@dataclass
-class StepBlocks:
-    """The discrete system of ``T`` steps of an error source, in blocks.
-
-    The state is ``[e, x]``: the navigation errors ``e`` (``n`` of them) and the source's ``k``
-    sensor states ``x``, whose own dynamics never depend on the navigation errors or on the
-    trajectory, so that over one step::
-
-        Φ = [[nav, gamma], [0, diag(decay)]],     Q_d = [[Qnn, Qnx], [Qnxᵀ, Qxx]].
-
-    Attributes
-    ----------
-    nav : ndarray, shape (T, n, n)
-        The navigation errors' own transition.
-    gamma : ndarray, shape (T, n, k)
-        How the sensor states at the step's start drive the navigation errors at its end.
-    decay : ndarray, shape (k,)
-        The sensor states' transition (diagonal: each decays on its own; 0 for a state that is
-        drawn afresh every step).
-    Qnn, Qnx : ndarray, shapes (T, n, n), (T, n, k)
-        Process-noise blocks.
-    Qxx : ndarray, shape (k, k)
-        The sensor states' process noise (the same every step).
-    """
-
-    nav: FloatArray
-    gamma: FloatArray
-    decay: FloatArray
-    Qnn: FloatArray
-    Qnx: FloatArray
-    Qxx: FloatArray
-
-    @property
-    def steps(self) -> int:
-        """Number of steps ``T``."""
-        return int(self.nav.shape[0])
-
-    def full(self) -> tuple[FloatArray, FloatArray]:
-        """The whole ``(Φ, Q_d)``, shapes (T, n + k, n + k) (what :func:`blocks_from_full`
-        splits).
-
-        Returns
-        -------
-        Phi, Qd : ndarray
-        """
-        T, n, k = self.steps, self.nav.shape[-1], self.decay.size
-        Phi = np.zeros((T, n + k, n + k))
-        Phi[:, :n, :n] = self.nav
-        Phi[:, :n, n:] = self.gamma
-        Phi[:, n:, n:] = np.diag(self.decay)
-        Qd = np.empty_like(Phi)
-        Qd[:, :n, :n] = self.Qnn
-        Qd[:, :n, n:] = self.Qnx
-        Qd[:, n:, :n] = np.swapaxes(self.Qnx, -1, -2)
-        Qd[:, n:, n:] = self.Qxx
-        return Phi, Qd
 
 
 def blocks_from_full(Phi: FloatArray, Qd: FloatArray, n: int) -> StepBlocks:

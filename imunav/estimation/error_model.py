@@ -23,7 +23,7 @@ state onto the errors a user reads (:meth:`FlatErrorModel.local`: the identity h
 **On the rotating Earth** (:class:`EarthErrorModel`, ``Trajectory.of`` an
 :class:`~imunav.motion.geodetic.EarthMotion`) the error state is that of the navigation's own
 frame, the inertial frame ``i`` that coincides with ECEF at ``t = 0``
-(:mod:`imunav.strapdown.earth`): φ, δv, δr in ``i``, ``Ĉ_ib = (I − [φ×]) C_ib``, and
+(:mod:`imunav.strapdown.rotating`): φ, δv, δr in ``i``, ``Ĉ_ib = (I − [φ×]) C_ib``, and
 
     φ̇ = −C_ib δω,    δv̇ = [f_i×] φ + Γ δr + C_ib δf,    δṙ = δv,
 
@@ -56,6 +56,7 @@ import numpy as np
 
 from imunav.core.constants import G0
 from imunav.core.kernels import FloatArray, quat_to_dcm, skew
+from imunav.core.layout import DP, DV, NAV, PHI
 from imunav.core.validation import ImunavError, check_gravity, check_positive
 from imunav.earth import (
     OMEGA_E,
@@ -79,12 +80,12 @@ from imunav.sensors.simulate import interval_count
 from imunav.sensors.terms import TERMS, LinearisationContext, SensorErrorStates
 
 __all__ = ["DP", "DV", "EARTH", "EARTH_HOLD", "NAV", "PHI", "EarthErrorModel", "ErrorSource",
-           "FlatErrorModel", "LazyTrajectory", "Trajectory", "error_model", "linearise"]
+           "FlatErrorModel", "LazyTrajectory", "Trajectory", "error_model", "linearise",
+           "local_error_map"]
 
-#: The navigation error states: attitude error φ (rad), velocity error δv (m/s), position
-#: error δp (m), each 3 components in the navigation frame; ``NAV`` = 9 of them.
-PHI, DV, DP = slice(0, 3), slice(3, 6), slice(6, 9)
-NAV = 9
+#: The navigation error states (written once in :mod:`imunav.core.layout`): attitude error φ
+#: (rad), velocity error δv (m/s), position error δp (m), each 3 components in the navigation
+#: frame; ``NAV`` = 9 of them.
 
 #: The rows of the navigation error a triad's error drives: the gyro φ, the accelerometer δv.
 TRIAD_ROWS = {"gyro": PHI, "accel": DV}
@@ -117,7 +118,7 @@ class Trajectory:
         Largest ``|ω_b|`` and ``|f_b|`` over the midpoints (range warnings).
     frame : {"flat", "wgs84"}
         On the Earth ``C`` is ``C_ib`` and ``f_n`` is ``f_i = C_ib f^b`` (the inertial frame
-        of :mod:`imunav.strapdown.earth`), ``omega`` is ``ω_ib^b``, and:
+        of :mod:`imunav.strapdown.rotating`), ``omega`` is ``ω_ib^b``, and:
     gradient : ndarray, shape (N, 3, 3), optional
         ``Γ = ∂G/∂r`` at the midpoints (Earth only).
     output : ndarray, shape (N + 1, 9, 9), optional
@@ -217,16 +218,7 @@ class Trajectory:
         f_i = np.einsum("nij,nj->ni", C, fb)
         r_i = np.einsum("nij,nj->ni", dcm_ecef_to_inertial(tm), motion.ecef(tm)[0])
         st = motion.states(t)
-        lat, lon, alt = st.position.T
-        C_in = dcm_ecef_to_inertial(t) @ dcm_ned_to_ecef(lat, lon)
-        C_ni = np.swapaxes(C_in, 1, 2)
-        K = curvature_matrix(lat, alt) @ C_ni
-        H = np.zeros((t.size, NAV, NAV))
-        H[:, PHI, PHI] = C_ni
-        H[:, PHI, DP] = K
-        H[:, DV, DV] = C_ni
-        H[:, DV, DP] = -C_ni @ skew(np.array([0.0, 0.0, OMEGA_E])) + skew(st.velocity) @ K
-        H[:, DP, DP] = C_ni
+        H = local_error_map(t, st.position, st.velocity)
         return cls(h, t, C, f_i, w, fb, float(np.linalg.norm(w, axis=1).max()),
                    float(np.linalg.norm(fb, axis=1).max()), "wgs84",
                    gravitation_gradient(r_i), H)
@@ -814,7 +806,7 @@ class EarthErrorModel(FlatErrorModel):
         #: ``"free"``, or ``"hold"``: the vertical channel held at the true height and vertical
         #: velocity (a perfect height aid): after every step the error state is projected by
         #: ``T = H⁻¹ Z H`` (``Z`` zeroes δv_D and δp_D in local NED), as the navigation's
-        #: per-step kicks of :mod:`imunav.strapdown.earth` do to first order.
+        #: per-step kicks of :mod:`imunav.strapdown.rotating` do to first order.
         self.vertical = vertical
 
     def nav_matrix(self, traj: Trajectory) -> FloatArray:
@@ -955,6 +947,45 @@ class EarthErrorModel(FlatErrorModel):
         """
         H = traj.output[lo: lo + P.shape[0]]
         return H @ P @ np.swapaxes(H, 1, 2)
+
+
+def local_error_map(t: FloatArray, lla: FloatArray, v_n: FloatArray, t0: float = 0.0
+                    ) -> FloatArray:
+    """The exact first-order map of the inertial error state onto the errors in the local NED
+    frame at a position: ``[φ_n, δv_n, δp_n] = M [φ, δv, δr]`` with (``C_ni`` the local frame
+    against the inertial one, which is ECEF at ``t0``; ``K`` the curvature matrix, Ω the Earth
+    rate)
+
+        φ_n = C_ni φ + K C_ni δr,   δv_n = C_ni δv − C_ni [Ω×] δr + [v_n×] K C_ni δr,
+        δp_n = C_ni δr.
+
+    Parameters
+    ----------
+    t : ndarray, shape (...)
+        Times (s).
+    lla : ndarray, shape (..., 3)
+        ``[lat, lon, h]`` (rad, rad, m) there.
+    v_n : ndarray, shape (..., 3)
+        NED velocity relative to the Earth (m/s).
+    t0 : float
+        When the inertial frame coincides with ECEF (s).
+
+    Returns
+    -------
+    ndarray, shape (..., 9, 9)
+    """
+    t = np.asarray(t, dtype=float)
+    lat, lon, alt = lla[..., 0], lla[..., 1], lla[..., 2]
+    C_in = dcm_ecef_to_inertial(t, t0) @ dcm_ned_to_ecef(lat, lon)
+    C_ni = np.swapaxes(C_in, -1, -2)
+    K = curvature_matrix(lat, alt) @ C_ni
+    M = np.zeros(np.shape(lat) + (NAV, NAV))
+    M[..., PHI, PHI] = C_ni
+    M[..., PHI, DP] = K
+    M[..., DV, DV] = C_ni
+    M[..., DV, DP] = -C_ni @ skew(np.array([0.0, 0.0, OMEGA_E])) + skew(v_n) @ K
+    M[..., DP, DP] = C_ni
+    return M
 
 
 def _with_gravity(Phi: FloatArray, F: FloatArray, Gm: FloatArray, B: FloatArray, D: FloatArray,

@@ -1,11 +1,26 @@
-"""The generic Kalman steps: prediction with a discrete system, and the measurement update in
-Joseph form, with an optional χ² innovation gate.
+"""The Kalman core, written once: the discrete system of a step in blocks, its prediction, and the
+measurement update in Joseph form with its χ² gate — for one filter or a batch of them.
 
-These know nothing of navigation: the error model supplies ``(Φ, Q_d)``
-(:mod:`~imunav.estimation.error_model`), a measurement its ``(z, H, R)``. The Joseph form
-``P⁺ = (I − K H) P (I − K H)ᵀ + K R Kᵀ`` keeps ``P`` symmetric and positive semi-definite for any
-gain (round-off in the optimal gain cannot make it indefinite, as ``(I − K H) P`` can), and equals
-the textbook update for the optimal gain ``K = P Hᵀ S⁻¹``, ``S = H P Hᵀ + R``.
+These know nothing of navigation: the error model supplies the discrete system
+(:mod:`~imunav.estimation.error_model`, :class:`~imunav.estimation.system.AidedSystem`), a
+measurement its ``(z, H, R)``. Every filter, smoother and covariance analysis of imunav goes
+through these functions:
+
+- :class:`StepBlocks` and :func:`predict_blocks` (:func:`predict_split` on a covariance kept in
+  its blocks): ``P ← Φ P Φᵀ + Q_d`` for a state ``[e, x]`` of ``n`` "navigation" errors and
+  ``k`` states that decay on their own, ``Φ = [[nav, Γ], [0, diag(decay)]]`` — ``n/(n+k)`` of
+  the operations of the full product; :func:`predict` is the textbook step (``k = 0``);
+- :func:`gain`, :func:`joseph`, :func:`update_batch` (and :func:`update`, a batch of one): the
+  gain ``K = P Hᵀ S⁻¹``, ``S = H P Hᵀ + R``, and Joseph's form
+  ``P⁺ = (I − K H) P (I − K H)ᵀ + K R Kᵀ``, exact for any gain (a suboptimal one too: the
+  covariance analysis applies the filter's gain to the true error covariance). It is evaluated
+  as ``P − K H P − (K H P)ᵀ + K S Kᵀ`` — the same sum, ``m n²`` operations instead of ``n³`` —
+  and symmetrised; for the optimal gain it equals ``P − K S Kᵀ``;
+- :func:`gate_quantile`: the χ² gate (a reading whose normalised innovation squared
+  ``νᵀ S⁻¹ ν`` exceeds the quantile of probability ``gate`` for its ``m`` components is
+  rejected), the one quantile every caller uses.
+
+Every function broadcasts over leading axes: a batch of ``R`` filters is ``P`` (R, n, n).
 
 May import: ``imunav.core``.
 """
@@ -17,18 +32,150 @@ from functools import lru_cache
 
 import numpy as np
 import numpy.typing as npt
-from scipy.linalg import cho_factor, cho_solve
 from scipy.stats import chi2
 
 from imunav.core.kernels import FloatArray
 from imunav.core.validation import ImunavError, as_float_array
 
-__all__ = ["Update", "predict", "update"]
+__all__ = ["BatchUpdate", "StepBlocks", "Update", "gain", "gate_quantile", "joseph", "predict",
+           "predict_blocks", "predict_split", "update", "update_batch"]
+
+
+# ----------------------------------------------------------------------------- prediction
+
+@dataclass
+class StepBlocks:
+    """The discrete system of ``T`` steps, in blocks.
+
+    The state is ``[e, x]``: ``n`` errors ``e`` whose transition may be anything and ``k``
+    states ``x`` that evolve on their own (each decays by its factor, driven by its own white
+    noise), so that over one step::
+
+        Φ = [[nav, gamma], [0, diag(decay)]],     Q_d = [[Qnn, Qnx], [Qnxᵀ, Qxx]].
+
+    Attributes
+    ----------
+    nav : ndarray, shape (T, n, n)
+        The errors' own transition.
+    gamma : ndarray, shape (T, n, k)
+        How the states at the step's start drive the errors at its end.
+    decay : ndarray, shape (k,) or (T, k)
+        The states' transition (diagonal; 0 for a state drawn afresh every step).
+    Qnn, Qnx : ndarray, shapes (T, n, n), (T, n, k)
+        Process-noise blocks.
+    Qxx : ndarray, shape (k, k) or (T, k, k)
+        The states' process noise.
+    """
+
+    nav: FloatArray
+    gamma: FloatArray
+    decay: FloatArray
+    Qnn: FloatArray
+    Qnx: FloatArray
+    Qxx: FloatArray
+
+    @property
+    def steps(self) -> int:
+        """Number of steps ``T``."""
+        return int(self.nav.shape[0])
+
+    def step(self, i) -> tuple[FloatArray, ...]:
+        """The blocks of step(s) ``i`` (an index or a slice), as :func:`predict_blocks` takes
+        them.
+
+        Parameters
+        ----------
+        i : int or slice
+
+        Returns
+        -------
+        tuple of ndarray
+            ``nav, gamma, decay, Qnn, Qnx, Qxx``.
+        """
+        d = self.decay if self.decay.ndim == 1 else self.decay[i]
+        q = self.Qxx if self.Qxx.ndim == 2 else self.Qxx[i]
+        if isinstance(i, slice) and self.decay.ndim == 1:
+            d = np.broadcast_to(d, (len(range(*i.indices(self.steps))),) + d.shape)
+        return self.nav[i], self.gamma[i], d, self.Qnn[i], self.Qnx[i], q
+
+    def full(self) -> tuple[FloatArray, FloatArray]:
+        """The whole ``(Φ, Q_d)``, shapes (T, n + k, n + k) (what :func:`blocks_from_full
+        <imunav.estimation.discretisation.blocks_from_full>` splits).
+
+        Returns
+        -------
+        Phi, Qd : ndarray
+        """
+        T, n, k = self.steps, self.nav.shape[-1], self.gamma.shape[-1]
+        Phi = np.zeros((T, n + k, n + k))
+        Phi[:, :n, :n] = self.nav
+        Phi[:, :n, n:] = self.gamma
+        Phi[:, range(n, n + k), range(n, n + k)] = self.decay
+        Qd = np.empty_like(Phi)
+        Qd[:, :n, :n] = self.Qnn
+        Qd[:, :n, n:] = self.Qnx
+        Qd[:, n:, :n] = np.swapaxes(self.Qnx, -1, -2)
+        Qd[:, n:, n:] = self.Qxx
+        return Phi, Qd
+
+
+def predict_split(nn: FloatArray, nx: FloatArray, xx: FloatArray, nav: FloatArray,
+                  gamma: FloatArray, decay: FloatArray, Qnn: FloatArray, Qnx: FloatArray,
+                  Qxx: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """``Φ P Φᵀ + Q_d`` on a covariance kept in its blocks, ``Φ`` as in :class:`StepBlocks`.
+
+    Parameters
+    ----------
+    nn, nx, xx : ndarray, shapes (..., n, n), (..., n, k), (..., k, k)
+        The blocks of ``P``.
+    nav, gamma, decay, Qnn, Qnx, Qxx : ndarray
+        One step's blocks (broadcast against ``P``'s leading axes).
+
+    Returns
+    -------
+    nn, nx, xx : ndarray
+        The predicted blocks (``nn`` symmetrised).
+    """
+    Y = nav @ nn + gamma @ np.swapaxes(nx, -1, -2)
+    X = nav @ nx + gamma @ xx
+    out_nn = Y @ np.swapaxes(nav, -1, -2) + X @ np.swapaxes(gamma, -1, -2)
+    out_nn = 0.5 * (out_nn + np.swapaxes(out_nn, -1, -2)) + Qnn
+    out_nx = X * decay[..., None, :] + Qnx
+    out_xx = xx * (decay[..., :, None] * decay[..., None, :]) + Qxx
+    return out_nn, out_nx, out_xx
+
+
+def predict_blocks(P: FloatArray, nav: FloatArray, gamma: FloatArray, decay: FloatArray,
+                   Qnn: FloatArray, Qnx: FloatArray, Qxx: FloatArray) -> FloatArray:
+    """``Φ P Φᵀ + Q_d`` for a whole covariance ``P`` (…, n + k, n + k), ``Φ`` as in
+    :class:`StepBlocks` — one filter's step or a batch's (the blocks broadcast per row).
+
+    Parameters
+    ----------
+    P : ndarray, shape (..., n + k, n + k)
+    nav, gamma, decay, Qnn, Qnx, Qxx : ndarray
+        One step's blocks (:meth:`StepBlocks.step`).
+
+    Returns
+    -------
+    ndarray, shape of ``P``
+        Symmetric when ``P`` is (the navigation block symmetrised).
+    """
+    n = nav.shape[-1]
+    nn, nx, xx = predict_split(P[..., :n, :n], P[..., :n, n:], P[..., n:, n:], nav, gamma,
+                               decay, Qnn, Qnx, Qxx)
+    out = np.empty(np.broadcast_shapes(P.shape, nn.shape[:-2] + P.shape[-2:]))
+    out[..., :n, :n] = nn
+    out[..., :n, n:] = nx
+    out[..., n:, :n] = np.swapaxes(nx, -1, -2)
+    out[..., n:, n:] = xx
+    return out
 
 
 def predict(x: npt.ArrayLike, P: npt.ArrayLike, Phi: npt.ArrayLike, Qd: npt.ArrayLike
             ) -> tuple[FloatArray, FloatArray]:
-    """One prediction step: ``x ← Φ x``, ``P ← Φ P Φᵀ + Q_d``.
+    """One prediction step: ``x ← Φ x``, ``P ← Φ P Φᵀ + Q_d`` (:func:`predict_blocks` with no
+    states of their own).
 
     Parameters
     ----------
@@ -51,8 +198,154 @@ def predict(x: npt.ArrayLike, P: npt.ArrayLike, Phi: npt.ArrayLike, Qd: npt.Arra
     """
     x = np.asarray(x, dtype=float)
     Phi = np.asarray(Phi, dtype=float)
-    P = Phi @ np.asarray(P, dtype=float) @ Phi.T + np.asarray(Qd, dtype=float)
-    return Phi @ x, 0.5 * (P + P.T)
+    n = Phi.shape[-1]
+    P = predict_blocks(np.asarray(P, dtype=float), Phi, np.zeros((n, 0)), np.zeros(0),
+                       np.asarray(Qd, dtype=float), np.zeros((n, 0)), np.zeros((0, 0)))
+    return Phi @ x, P
+
+
+# ----------------------------------------------------------------------------- the update
+
+@lru_cache(maxsize=256)
+def gate_quantile(p: float, dof: int) -> float:
+    """The χ² quantile of a gate of probability ``p`` for ``dof`` components (remembered: a
+    filter gates thousands of readings alike).
+
+    Parameters
+    ----------
+    p : float
+        In (0, 1).
+    dof : int
+
+    Returns
+    -------
+    float
+    """
+    return float(chi2.ppf(p, dof))
+
+
+def gain(P: FloatArray, H: FloatArray, R: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The gain ``K = P Hᵀ S⁻¹`` and ``S = H P Hᵀ + R``.
+
+    Parameters
+    ----------
+    P : ndarray, shape (..., n, n)
+    H : ndarray, shape (..., m, n)
+    R : ndarray, shape (..., m, m)
+
+    Returns
+    -------
+    K : ndarray, shape (..., n, m)
+    S : ndarray, shape (..., m, m)
+        Symmetrised.
+    HP : ndarray, shape (..., m, n)
+        ``H P`` (for :func:`joseph`).
+
+    Raises
+    ------
+    ImunavError
+        If ``S`` is not positive definite (check R).
+    """
+    HP = H @ P
+    S = HP @ np.swapaxes(H, -1, -2) + R
+    S = 0.5 * (S + np.swapaxes(S, -1, -2))
+    try:
+        L = np.linalg.cholesky(S)
+    except np.linalg.LinAlgError:
+        raise ImunavError("the innovation covariance H P Hᵀ + R is not positive definite "
+                          "(check R)") from None
+    Y = np.linalg.solve(L, HP)                                 # L⁻¹ H P
+    K = np.swapaxes(np.linalg.solve(np.swapaxes(L, -1, -2), Y), -1, -2)   # (S⁻¹ H P)ᵀ
+    return K, S, HP
+
+
+def joseph(P: FloatArray, K: FloatArray, H: FloatArray, R: FloatArray,
+           HP: FloatArray | None = None) -> FloatArray:
+    """Joseph's form ``(I − K H) P (I − K H)ᵀ + K R Kᵀ`` for any gain ``K``.
+
+    Parameters
+    ----------
+    P : ndarray, shape (..., n, n)
+    K : ndarray, shape (..., n, m)
+    H : ndarray, shape (..., m, n)
+    R : ndarray, shape (..., m, m)
+    HP : ndarray, shape (..., m, n), optional
+        ``H P``, if known.
+
+    Returns
+    -------
+    ndarray, shape (..., n, n)
+        Symmetric.
+    """
+    HP = H @ P if HP is None else HP
+    S = HP @ np.swapaxes(H, -1, -2) + R
+    KHP = K @ HP
+    out = P - KHP - np.swapaxes(KHP, -1, -2) + K @ S @ np.swapaxes(K, -1, -2)
+    return 0.5 * (out + np.swapaxes(out, -1, -2))
+
+
+@dataclass
+class BatchUpdate:
+    """The result of one measurement update of ``R`` filters (leading axes ``(R,)``).
+
+    Attributes
+    ----------
+    x, P : ndarray, shapes (R, n), (R, n, n)
+        The updated states and covariances (unchanged where the reading was rejected).
+    innovation : ndarray, shape (R, m)
+        ``z − H x`` (before the update).
+    S : ndarray, shape (R, m, m)
+        Its covariance ``H P Hᵀ + R``.
+    nis : ndarray, shape (R,)
+        The normalised innovation squared ``νᵀ S⁻¹ ν`` (χ² with m degrees of freedom when the
+        filter is consistent).
+    accepted : ndarray of bool, shape (R,)
+        False where the gate rejected the reading.
+    """
+
+    x: FloatArray
+    P: FloatArray
+    innovation: FloatArray
+    S: FloatArray
+    nis: FloatArray
+    accepted: np.ndarray
+
+
+def update_batch(x: FloatArray, P: FloatArray, z: FloatArray, H: FloatArray, R: FloatArray,
+                 *, gate: float | None = None, admit: np.ndarray | None = None) -> BatchUpdate:
+    """One measurement update of ``R`` filters at once, each with its own gate.
+
+    Parameters
+    ----------
+    x : ndarray, shape (R, n)
+    P : ndarray, shape (R, n, n)
+    z : ndarray, shape (R, m)
+        The measurement (an error-state filter: predicted minus measured, about ``x``).
+    H : ndarray, shape (R, m, n) or (m, n)
+    R : ndarray, shape (R, m, m) or (m, m)
+    gate : float, optional
+        Probability of the χ² gate: a reading whose NIS exceeds :func:`gate_quantile` is
+        rejected (its filter unchanged).
+    admit : ndarray of bool, shape (R,), optional
+        Filters whose reading is used whatever its NIS (a recovery after a lock-out).
+
+    Returns
+    -------
+    BatchUpdate
+    """
+    K, S, HP = gain(P, H, R)
+    nu = z - np.einsum("...mn,...n->...m", H, x)
+    Sinv_nu = np.linalg.solve(S, nu[..., None])[..., 0]
+    nis = np.einsum("...m,...m->...", nu, Sinv_nu)
+    ok = np.ones(nis.shape, dtype=bool) if gate is None else nis <= gate_quantile(gate, z.shape[-1])
+    if admit is not None:
+        ok = ok | admit
+    xn = x + np.einsum("...nm,...m->...n", K, nu)
+    Pn = joseph(P, K, H, R, HP)
+    if not ok.all():
+        xn = np.where(ok[..., None], xn, x)
+        Pn = np.where(ok[..., None, None], Pn, P)
+    return BatchUpdate(xn, Pn, nu, S, nis, ok)
 
 
 @dataclass
@@ -82,15 +375,10 @@ class Update:
     accepted: bool = True
 
 
-@lru_cache(maxsize=256)
-def _quantile(p: float, dof: int) -> float:
-    """The χ² quantile of the gate (remembered: a filter gates thousands of readings alike)."""
-    return float(chi2.ppf(p, dof))
-
-
 def update(x: npt.ArrayLike, P: npt.ArrayLike, z: npt.ArrayLike, H: npt.ArrayLike,
            R: npt.ArrayLike, *, gate: float | None = None) -> Update:
-    """One measurement update in Joseph form.
+    """One measurement update in Joseph form (:func:`update_batch` of one filter, its inputs
+    checked).
 
     Parameters
     ----------
@@ -136,19 +424,5 @@ def update(x: npt.ArrayLike, P: npt.ArrayLike, z: npt.ArrayLike, H: npt.ArrayLik
                           f"R {R.shape}")
     if gate is not None and not 0 < gate < 1:
         raise ImunavError(f"gate must be a probability in (0, 1), got {gate!r}")
-    nu = z - H @ x
-    PHt = P @ H.T
-    S = H @ PHt + R
-    S = 0.5 * (S + S.T)
-    try:
-        cs = cho_factor(S)
-    except np.linalg.LinAlgError:
-        raise ImunavError("the innovation covariance H P Hᵀ + R is not positive definite "
-                          "(check R)") from None
-    nis = float(nu @ cho_solve(cs, nu))
-    if gate is not None and nis > _quantile(gate, m):
-        return Update(x, P, nu, S, nis, accepted=False)
-    K = cho_solve(cs, PHt.T).T                             # P Hᵀ S⁻¹
-    A = np.eye(n) - K @ H
-    Pn = A @ P @ A.T + K @ R @ K.T
-    return Update(x + K @ nu, 0.5 * (Pn + Pn.T), nu, S, nis)
+    u = update_batch(x[None], P[None], z[None], H, R, gate=gate)
+    return Update(u.x[0], u.P[0], u.innovation[0], u.S[0], float(u.nis[0]), bool(u.accepted[0]))

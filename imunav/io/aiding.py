@@ -1,24 +1,27 @@
-"""The aiding sensors' measurement files: one CSV per sensor in a folder.
+"""The aiding sensors' measurement files: one CSV per aid in a folder, its name and headers
+those of the aid's spec (:data:`~imunav.sensors.aids.AIDS`):
 
-========== ============================================ =============================
-file       header (exactly)                             units
-========== ============================================ =============================
-gnss.csv   ``t,x,y,z,vx,vy,vz`` or ``t,x,y,z`` (flat)   s, m (NED), m/s
-gnss.csv   ``t,lat,lon,alt,vn,ve,vd`` or ``t,lat,lon,alt``  s, deg, deg, m, m/s (wgs84)
-baro.csv   ``t,alt``                                    s, m (altitude: ``−z``, or the
-                                                        height above the ellipsoid)
-heading.csv ``t,yaw``                                   s, rad
-nhc.csv    ``t,vy,vz``                                  s, m/s (the constraint readings)
-zupt.csv   ``t0,t1``                                    s (stance intervals)
-========== ============================================ =============================
+============= ================================================ =============================
+file          header (exactly)                                 units
+============= ================================================ =============================
+gnss.csv      ``t,x,y,z,vx,vy,vz`` or ``t,x,y,z`` (flat)         s, m (NED), m/s
+gnss.csv      ``t,lat,lon,alt,vn,ve,vd`` or ``t,lat,lon,alt``    s, deg, deg, m, m/s (wgs84)
+baro.csv      ``t,alt``                                        s, m (altitude: ``−z``, or the
+                                                               height above the ellipsoid)
+heading.csv   ``t,yaw``                                        s, rad
+nhc.csv       ``t,vy,vz``                                      s, m/s (the constraint readings)
+zupt.csv      ``t0,t1``                                        s (stance intervals)
+odometer.csv  ``t,speed``                                      s, m/s
+============= ================================================ =============================
 
-On the WGS-84 Earth latitude and longitude are in degrees in the file (radians in
-:class:`~imunav.sensors.aiding.Readings`), the velocity relative to the Earth in local NED. A
-file without velocity (``t,x,y,z``) is written when the GNSS has no ``velocity_sigma``. On
-reading, every value must be a finite number, times strictly increasing (stance intervals with
-``t0 ≤ t1``, in order, not overlapping); a bad file is one :class:`ImunavError` naming the file
-and its line (a file with a header and no rows has no readings: a record inside an outage).
-Files are written through a temporary file renamed at the end.
+On the WGS-84 Earth the columns an aid writes in degrees (GNSS latitude and longitude) are in
+degrees in the file (radians in :class:`~imunav.sensors.aids.Readings`), the velocity relative
+to the Earth in local NED. A GNSS file without velocity (``t,x,y,z``) is written when the GNSS
+has no ``velocity_sigma``. On reading, every value must be a finite number, times strictly
+increasing (intervals with ``t0 ≤ t1``, in order, not overlapping); a bad file is one
+:class:`ImunavError` naming the file and its line (a file with a header and no rows has no
+readings: a record inside an outage). Files are written through a temporary file renamed at the
+end.
 
 May import: ``imunav.core``, ``imunav.sensors``, ``imunav.io.csvio``.
 """
@@ -31,20 +34,25 @@ import numpy as np
 
 from imunav.core.validation import ImunavError
 from imunav.io.csvio import CsvWriter, read_chunks, read_header
-from imunav.sensors.aiding import AidingData, Readings
+from imunav.sensors.aids import AIDS, AidingData, Readings
 
-__all__ = ["AIDING_FILES", "GNSS_HEADERS", "check_span", "read_aiding", "unused_files",
-           "write_aiding"]
+__all__ = ["FRAMES", "aid_files", "check_span", "read_aiding", "unused_files", "write_aiding"]
 
-#: The headers of ``gnss.csv``: with and without velocity (flat frame).
-GNSS_HEADERS = {"flat": (("t", "x", "y", "z", "vx", "vy", "vz"), ("t", "x", "y", "z")),
-                "wgs84": (("t", "lat", "lon", "alt", "vn", "ve", "vd"),
-                          ("t", "lat", "lon", "alt"))}
+#: The frames an aid's file may be written in.
+FRAMES = ("flat", "wgs84")
 
-#: Each file and its header (GNSS: see :data:`GNSS_HEADERS`).
-AIDING_FILES = {"gnss": ("gnss.csv", None), "baro": ("baro.csv", ("t", "alt")),
-                "heading": ("heading.csv", ("t", "yaw")), "nhc": ("nhc.csv", ("t", "vy", "vz")),
-                "zupt": ("zupt.csv", ("t0", "t1"))}
+#: Latitude and longitude limits (°) of a column written in degrees.
+_DEGREE_LIMITS = {"lat": 90.0, "lon": 180.0}
+
+
+def aid_files() -> dict[str, str]:
+    """``{aid: file name}`` of every registered aid.
+
+    Returns
+    -------
+    dict
+    """
+    return {n: s.file for n, s in AIDS.items()}
 
 
 def _line_of(path: Path, row: int) -> int:
@@ -75,18 +83,19 @@ def _check_times(path: Path, t: np.ndarray, column: str = "t") -> None:
                           f"increasing; t = {t[i]:.9g} s is {what} (after {t[i - 1]:.9g} s)")
 
 
-def read_aiding(folder: str | Path, sensors, frame: str = "flat") -> AidingData:
+def read_aiding(folder: str | Path, sensors, frame: str = "flat", aiding=None) -> AidingData:
     """Read the measurement files of ``sensors`` from ``folder``.
 
     Parameters
     ----------
     folder : str or Path
     sensors : iterable of str
-        The aids to read (``gnss``, ``baro``, ``heading``, ``zupt``; ``nhc`` is read only if its
-        file exists, else the filter applies the constraint itself).
+        The aids to read (a file an aid can do without — NHC applied by the filter itself, a
+        stance found by the SHOE detector — is read only if it exists).
     frame : {"flat", "wgs84"}
-        The frame of the GNSS file (wgs84: latitude and longitude in degrees, converted to
-        radians).
+        The frame of the files (wgs84: the columns in degrees converted to radians).
+    aiding : AidingConfig, optional
+        The aids' configuration (which files are optional; default: NHC's and ZUPT's).
 
     Returns
     -------
@@ -96,43 +105,36 @@ def read_aiding(folder: str | Path, sensors, frame: str = "flat") -> AidingData:
     ------
     ImunavError
         For a missing folder or file, a file given as the folder, a wrong header, a value that
-        is not a finite number, times not strictly increasing, stance intervals with
-        ``t1 < t0`` or overlapping, or (wgs84) a latitude outside ±90° or a longitude outside ±180°.
+        is not a finite number, times not strictly increasing, intervals with ``t1 < t0`` or
+        overlapping, or (wgs84) a latitude outside ±90° or a longitude outside ±180°.
     """
-    if frame not in GNSS_HEADERS:
-        raise ImunavError(f"frame must be one of {tuple(GNSS_HEADERS)}, got {frame!r}",
-                          argument="frame")
+    if frame not in FRAMES:
+        raise ImunavError(f"frame must be one of {FRAMES}, got {frame!r}", argument="frame")
     folder = Path(folder)
     if folder.is_file():
         raise ImunavError(f"measurements {folder} is a file; give the folder that holds "
-                          f"{', '.join(f for f, _ in AIDING_FILES.values())}",
-                          argument="measurements")
+                          f"{', '.join(aid_files().values())}", argument="measurements")
     if not folder.is_dir():
         raise ImunavError(f"measurements folder not found: {folder}", argument="measurements")
     out = AidingData()
     for name in sensors:
-        fname, header = AIDING_FILES[name]
-        path = folder / fname
-        if name == "nhc" and not path.exists():
-            continue
-        if name == "zupt" and not path.exists():
-            continue                   # the shoe detector needs no file; truth is checked later
+        spec = AIDS[name]
+        path = folder / spec.file
         if not path.exists():
+            optional = (not spec.file_needed(aiding.get(name)) if aiding is not None
+                        else name in ("nhc", "zupt"))
+            if optional:
+                continue
             raise ImunavError(f"{path} not found (the [{name}] readings)")
         got = read_header(path, name)
-        if name == "gnss":
-            allowed = GNSS_HEADERS[frame]
-            if got not in allowed:
-                other = [f for f, hs in GNSS_HEADERS.items() if got in hs]
-                hint = (f" (a {other[0]} file: the filter's frame is {frame})" if other else "")
-                raise ImunavError(f"{path}: unrecognised header {','.join(got)!r}; expected "
-                                  + " or ".join(repr(",".join(h)) for h in allowed) + hint)
-            header = got
-        elif got != header:
+        allowed = spec.headers[frame]
+        if got not in allowed:
+            other = [f for f, hs in spec.headers.items() if got in hs and f != frame]
+            hint = f" (a {other[0]} file: the filter's frame is {frame})" if other else ""
             raise ImunavError(f"{path}: unrecognised header {','.join(got)!r}; expected "
-                              f"{','.join(header)!r}")
-        data = _read(path, header, name)
-        if name == "zupt":
+                              + " or ".join(repr(",".join(h)) for h in allowed) + hint)
+        data = _read(path, got, name)
+        if spec.intervals:
             bad = data[:, 1] < data[:, 0]
             if bad.any():
                 i = int(np.argmax(bad))
@@ -141,28 +143,27 @@ def read_aiding(folder: str | Path, sensors, frame: str = "flat") -> AidingData:
             over = data[1:, 0] <= data[:-1, 1]
             if over.any():
                 i = int(np.argmax(over)) + 1
-                raise ImunavError(f"{path}, line {_line_of(path, i)}: the stance interval starts "
+                raise ImunavError(f"{path}, line {_line_of(path, i)}: the interval starts "
                                   f"at {data[i, 0]:.9g} s, not after the previous one ends "
                                   f"({data[i - 1, 1]:.9g} s): intervals must be in order and "
                                   "not overlap")
-            out.zupt = data
-        else:
-            _check_times(path, data[:, 0])
-            values = data[:, 1:]
-            if name == "gnss" and frame == "wgs84":
-                bad = np.abs(values[:, 0]) > 90.0
+            setattr(out, name, data)
+            continue
+        _check_times(path, data[:, 0])
+        values = data[:, 1:]
+        if frame == "wgs84":
+            for j, col in enumerate(got[1:]):
+                if col not in spec.degrees:
+                    continue
+                lim = _DEGREE_LIMITS.get(col, 360.0)
+                bad = np.abs(values[:, j]) > lim
                 if bad.any():
                     i = int(np.argmax(bad))
-                    raise ImunavError(f"{path}, line {_line_of(path, i)}: lat = "
-                                      f"{values[i, 0]:.9g}° is outside ±90°")
-                bad = np.abs(values[:, 1]) > 180.0
-                if bad.any():
-                    i = int(np.argmax(bad))
-                    raise ImunavError(f"{path}, line {_line_of(path, i)}: lon = "
-                                      f"{values[i, 1]:.9g}° is outside ±180°")
-                values = values.copy()
-                values[:, :2] = np.radians(values[:, :2])
-            setattr(out, name, Readings(data[:, 0], values))
+                    raise ImunavError(f"{path}, line {_line_of(path, i)}: {col} = "
+                                      f"{values[i, j]:.9g}° is outside ±{lim:g}°")
+                values = values.copy() if values.base is data else values
+                values[:, j] = np.radians(values[:, j])
+        setattr(out, name, Readings(data[:, 0], values))
     return out
 
 
@@ -186,11 +187,12 @@ def unused_files(folder: str | Path, sensors, detector: str | None = None) -> li
         table"``.
     """
     folder, sensors = Path(folder), set(sensors)
-    out = [f"{folder / fname} is not used: the aiding file has no [{name}] table"
-           for name, (fname, _) in AIDING_FILES.items()
-           if name not in sensors and (folder / fname).is_file()]
-    if "zupt" in sensors and detector == "shoe" and (folder / "zupt.csv").is_file():
-        out.append(f"{folder / 'zupt.csv'} is not used: [zupt] detector = \"shoe\" finds the "
+    out = [f"{folder / spec.file} is not used: the aiding file has no [{name}] table"
+           for name, spec in AIDS.items()
+           if name not in sensors and (folder / spec.file).is_file()]
+    z = AIDS["zupt"].file
+    if "zupt" in sensors and detector == "shoe" and (folder / z).is_file():
+        out.append(f"{folder / z} is not used: [zupt] detector = \"shoe\" finds the "
                    "stance in the IMU data")
     return out
 
@@ -212,29 +214,27 @@ def check_span(folder: str | Path, data: AidingData, t_start: float, t_end: floa
         Naming the file, its line and the record's span.
     """
     tol = 1e-9 * max(1.0, abs(t_end))
-    for name in ("gnss", "baro", "heading", "nhc", "zupt"):
-        r = getattr(data, name)
-        if r is None:
-            continue
-        t = r.ravel() if name == "zupt" else r.t
+    for name, r in data.items():
+        spec = AIDS[name]
+        t = np.asarray(r).ravel() if spec.intervals else r.t
         bad = (t < t_start - tol) | (t > t_end + tol)
         if bad.any():
             i = int(np.argmax(bad))
-            row = i // 2 if name == "zupt" else i
-            path = Path(folder) / AIDING_FILES[name][0]
+            row = i // 2 if spec.intervals else i
+            path = Path(folder) / spec.file
             raise ImunavError(f"{path}, line {_line_of(path, row)}: t = {t[i]:.9g} s lies "
                               f"outside the IMU record ({t_start:.9g} … {t_end:.9g} s)")
 
 
 def write_aiding(folder: str | Path, data: AidingData, frame: str = "flat") -> list[Path]:
-    """Write each sensor's readings of ``data`` to its file in ``folder`` (created if absent).
+    """Write each aid's readings of ``data`` to its file in ``folder`` (created if absent).
 
     Parameters
     ----------
     folder : str or Path
     data : AidingData
     frame : {"flat", "wgs84"}
-        The frame of the GNSS readings (wgs84: latitude and longitude written in degrees).
+        The frame of the readings (wgs84: the aid's degree columns written in degrees).
 
     Returns
     -------
@@ -244,30 +244,47 @@ def write_aiding(folder: str | Path, data: AidingData, frame: str = "flat") -> l
     Raises
     ------
     ImunavError
-        For another ``frame``.
+        For another ``frame``, or a value that is not finite.
     """
-    if frame not in GNSS_HEADERS:
-        raise ImunavError(f"frame must be one of {tuple(GNSS_HEADERS)}, got {frame!r}",
-                          argument="frame")
+    if frame not in FRAMES:
+        raise ImunavError(f"frame must be one of {FRAMES}, got {frame!r}", argument="frame")
     folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
-    written = []
-    for name, (fname, header) in AIDING_FILES.items():
-        r = getattr(data, name)
-        if r is None:
-            continue
-        if name == "zupt":
-            cols = [r[:, 0], r[:, 1]]
+    cols_of = []
+    for name, r in data.items():
+        spec = AIDS[name]
+        if spec.intervals:
+            header, cols = spec.headers[frame][0], [r[:, 0], r[:, 1]]
         else:
             vals = r.values
-            if name == "gnss":
-                header = GNSS_HEADERS[frame][0 if vals.shape[1] == 6 else 1]
-                if frame == "wgs84":
-                    vals = vals.copy()
-                    vals[:, :2] = np.degrees(vals[:, :2])
+            header = next(h for h in spec.headers[frame] if len(h) == vals.shape[1] + 1)
+            if frame == "wgs84" and spec.degrees:
+                vals = vals.copy()
+                for j, col in enumerate(header[1:]):
+                    if col in spec.degrees:
+                        vals[:, j] = np.degrees(vals[:, j])
             cols = [r.t] + [vals[:, j] for j in range(vals.shape[1])]
-        path = folder / fname
+        if not all(np.isfinite(c).all() for c in cols):
+            raise ImunavError(f"the {name} readings are not all finite numbers: nothing "
+                              f"written to {folder / spec.file}", argument="aiding")
+        cols_of.append((folder / spec.file, header, cols))
+    folder.mkdir(parents=True, exist_ok=True)
+    written = []
+    for path, header, cols in cols_of:
         with CsvWriter(path, header) as w:
             w.write(cols)
         written.append(path)
     return written
+
+
+def __getattr__(name):
+    # the names of 0.2, kept one release (derived from the registry)
+    if name in ("AIDING_FILES", "GNSS_HEADERS"):
+        import warnings
+        warnings.warn(f"imunav.io.aiding.{name} is deprecated and will be removed in imunav 0.3; "
+                      "use imunav.sensors.aids.AIDS (each aid's file and headers)",
+                      DeprecationWarning, stacklevel=2)
+        if name == "AIDING_FILES":
+            return {n: (s.file, None if n == "gnss" else s.headers["flat"][0])
+                    for n, s in AIDS.items()}
+        return dict(AIDS["gnss"].headers)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -2,15 +2,16 @@
 errors.
 
 Modules: :mod:`~imunav.sensors.signals` (:class:`ImuSignals`), :mod:`~imunav.sensors.simulate`
-(ideal rates and exact increments), :mod:`~imunav.sensors.aiding` (the aiding sensors:
-AIDING.toml, their simulation, the SHOE detector), :mod:`~imunav.sensors.models` (error models from
-datasheets), :mod:`~imunav.sensors.terms` (the error terms: units, realisation,
-linearisation), :mod:`~imunav.sensors.presets`, :mod:`~imunav.sensors.allan`.
+(ideal rates and exact increments), :mod:`~imunav.sensors.aids` (the aids, one module each:
+their AIDING.toml table, file, simulation and measurement model; the SHOE detector),
+:mod:`~imunav.sensors.models` (error models from datasheets), :mod:`~imunav.sensors.terms`
+(the error terms: units, realisation, linearisation),
+:mod:`~imunav.sensors.presets`, :mod:`~imunav.sensors.allan`.
 
-May import: ``imunav.core``, ``imunav.motion``.
+May import: ``imunav.core``, ``imunav.earth``, ``imunav.motion``.
 """
 
-from imunav.sensors.aiding import AidingConfig, AidingData, Readings, simulate_aiding
+from imunav.sensors.aids import AIDS, AidingConfig, AidingData, Readings, simulate_aiding
 from imunav.sensors.allan import allan_deviation, fit_allan, gauss_markov_allan_variance
 from imunav.sensors.models import (
     ImuModel,
@@ -26,7 +27,7 @@ from imunav.sensors.signals import KINDS, ImuSignals
 from imunav.sensors.simulate import sample_times, simulate_imu, truth_states
 from imunav.sensors.terms import TERMS, Term, bias_instability_sigma, register
 
-__all__ = ["KINDS", "PRESETS", "TERMS", "AidingConfig", "AidingData", "ImuModel", "Readings",
+__all__ = ["AIDS", "KINDS", "PRESETS", "TERMS", "AidingConfig", "AidingData", "ImuModel", "Readings",
            "ImuSignals", "MeasureStream", "TriadModel",
            "TriadStream", "allan_deviation", "apply_triad", "bias_instability_sigma", "fit_allan",
            "gauss_markov_allan_variance", "integrate_consecutive", "integrate_intervals",

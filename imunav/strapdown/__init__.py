@@ -4,7 +4,7 @@ Modules: :mod:`~imunav.strapdown.scan` (the blocked quaternion scan kernels),
 :mod:`~imunav.strapdown.classic` (textbook, coning/sculling and multi-sample algorithms),
 :mod:`~imunav.strapdown.highorder` (local polynomial fits + Magnus), :mod:`~imunav.strapdown.reference`
 (plain loops: test oracles and the compiled benchmark baseline), :mod:`~imunav.strapdown.alignment`
-(levelling and static biases), :mod:`~imunav.strapdown.earth` (the navigation-frame side on the
+(levelling and static biases), :mod:`~imunav.strapdown.rotating` (the navigation-frame side on the
 rotating WGS-84 Earth: :class:`EarthIntegrator`), :mod:`~imunav.strapdown.registry`
 (:data:`ALGORITHMS`, :func:`navigate`, flat or ``earth="wgs84"``).
 
@@ -12,7 +12,6 @@ May import: ``imunav.core``, ``imunav.earth``, ``imunav.sensors.signals``.
 """
 
 from imunav.core.states import States
-from imunav.strapdown.earth import EarthIntegrator
 from imunav.strapdown.registry import (
     ALGORITHMS,
     DEFAULT_ALGORITHM,
@@ -22,6 +21,7 @@ from imunav.strapdown.registry import (
     navigate_batch,
     resolve,
 )
+from imunav.strapdown.rotating import EarthIntegrator
 from imunav.strapdown.scan import cumulative_product, exp_product, prefix_product
 
 #: Former name of :class:`~imunav.core.states.States` for navigation output (kept as an alias).

@@ -29,7 +29,7 @@ from imunav.strapdown.scan import cumulative_product, exp_product
 def _gravity(g) -> FloatArray:
     """The navigation-frame gravity: ``[0, 0, g]`` for a magnitude ``g`` (the flat NED frame),
     or a given vector (…, 3) as it is (on the Earth the driver passes a constant inertial one,
-    which keeps the thrust sums small: :mod:`imunav.strapdown.earth`)."""
+    which keeps the thrust sums small: :mod:`imunav.strapdown.rotating`)."""
     return np.array([0.0, 0.0, g]) if np.ndim(g) == 0 else np.asarray(g, dtype=float)
 
 

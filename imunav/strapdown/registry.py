@@ -32,14 +32,14 @@ from imunav.core.states import States
 from imunav.core.validation import ImunavError, as_float_array, check_gravity, check_positive
 from imunav.sensors.signals import KINDS, ImuSignals
 from imunav.strapdown import classic
-from imunav.strapdown.earth import EarthIntegrator
 from imunav.strapdown.highorder import navigate_poly
+from imunav.strapdown.rotating import EarthIntegrator
 
 __all__ = ["ALGORITHMS", "Algorithm", "DEFAULT_ALGORITHM", "EARTH_CHUNK_SECONDS", "EARTHS",
            "StreamNavigator", "navigate", "navigate_batch", "navigate_chunks", "resolve"]
 
 #: The navigation frames: the flat, non-rotating NED frame, or the rotating WGS-84 Earth
-#: (:mod:`imunav.strapdown.earth`).
+#: (:mod:`imunav.strapdown.rotating`).
 EARTHS = ("flat", "wgs84")
 #: On the Earth the body-frame algorithm runs on pieces of at most this many seconds, with the
 #: gravitation at the piece's start as a constant gravity (``StreamNavigator._gravity``): its
@@ -458,7 +458,7 @@ def navigate(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike = (0.0, 0
         ``earth="wgs84"`` (gravity comes from the normal gravity model).
     earth : {"flat", "wgs84"}
         The navigation frame: flat and non-rotating, or the rotating WGS-84 Earth
-        (:mod:`imunav.strapdown.earth`: Earth rate, transport rate, Coriolis, normal gravity).
+        (:mod:`imunav.strapdown.rotating`: Earth rate, transport rate, Coriolis, normal gravity).
     hold : callable, optional
         On the Earth: ``hold(t) → (h, v_d)``, the heights (m) and down velocities (m/s) at the
         state times ``t`` to hold the vertical channel at (a perfect height aid); default free.

@@ -68,15 +68,16 @@ import numpy as np
 from IPython.display import Markdown, display
 from ipywidgets import Dropdown, FloatSlider, interact_manual
 
-from imunav.analysis.aided import filter_monte_carlo, nees_band
+from imunav.analysis.aided_assessment import aided_covariance, outage_p95
+from imunav.analysis.aided_montecarlo import filter_monte_carlo, nees_band
 from imunav.analysis.gaussnorm import norm_quantile
-from imunav.analysis.outage import aided_covariance, bridgeable_outages, outage_p95
+from imunav.analysis.outage import bridgeable_outages
 from imunav.analysis.zupt import zupt_walk
 from imunav.estimation.error_model import DP
 from imunav.estimation.filters import run_filter
 from imunav.io.files import load_motion
 from imunav.plotting import colour, figure, name, style, styled, use_book_style
-from imunav.sensors.aiding import AidingConfig, simulate_aiding
+from imunav.sensors.aids import AidingConfig, simulate_aiding
 from imunav.sensors.models import ImuModel
 from imunav.sensors.presets import PRESETS
 from imunav.sensors.simulate import simulate_imu
@@ -427,7 +428,7 @@ plt.show()
 # Solution
 from imunav.analysis.zupt import match_stances  # noqa: E402
 from imunav.motion.foot import foot_walk  # noqa: E402
-from imunav.sensors.aiding import shoe_intervals  # noqa: E402
+from imunav.sensors.aids import shoe_intervals  # noqa: E402
 
 fast = foot_walk(30.0, cadence=130, stride_length=1.6)
 sig = simulate_imu(fast, 100.0, 30.0, imu=ImuModel.load("BMI088"), seed=1)

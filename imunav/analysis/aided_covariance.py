@@ -59,31 +59,30 @@ from dataclasses import dataclass
 import numpy as np
 
 from imunav.core.constants import G0
-from imunav.core.kernels import FloatArray
+from imunav.core.kernels import FloatArray, quat_conj, quat_rotate, quat_to_dcm
 from imunav.core.resources import check_memory
 from imunav.core.validation import ImunavError, check_positive
-from imunav.estimation.error_model import NAV, TRIAD_ROWS, Trajectory, linearise
-from imunav.estimation.filters import AidedSystem, build_measurements, predict_blocks
-from imunav.estimation.measurements import GnssFix, Measurement, NavPoint
+from imunav.earth import dcm_ecef_to_inertial, earth_rate_ned, gravitation_gradient
+from imunav.estimation.error_model import EARTH, FLAT, NAV, TRIAD_ROWS, Trajectory, linearise, local_error_map
+from imunav.estimation.kalman import gain, joseph, predict_blocks
+from imunav.estimation.schedule import Schedule, step_length
+from imunav.estimation.system import AidedSystem
 from imunav.motion.base import BaseMotion
-from imunav.sensors.aiding import AidingConfig, true_stance
+from imunav.sensors.aids import AIDS, AidingConfig, Measurement, NavPoint, build_measurements
 from imunav.sensors.models import ImuModel
 from imunav.sensors.simulate import interval_count
 from imunav.strapdown.registry import resolve
 
-__all__ = ["SENSOR_ORDER", "AlongTruth", "Ingredient", "PassResult", "Reading",
-           "reading_times", "truth_measurements"]
-
-#: The order in which the filter uses the readings of one epoch (that of ``run_filter``).
-SENSOR_ORDER = ("gnss", "baro", "heading", "nhc", "zupt")
+__all__ = ["AlongTruth", "Ingredient", "PassResult", "Reading", "reading_times",
+           "truth_measurements"]
 
 #: Steps discretised at once (memory of a piece: a few arrays of ``CHUNK × n²``).
 CHUNK = 256
 
 
 def truth_measurements(aiding: AidingConfig) -> dict[str, Measurement]:
-    """The aids as the simulation makes them: :func:`~imunav.estimation.filters.build_measurements`
-    with a correlated GNSS error always carried as states (whatever the filter assumes).
+    """The aids as the simulation makes them (a correlated GNSS error always carried as states,
+    whatever the filter assumes).
 
     Parameters
     ----------
@@ -92,27 +91,16 @@ def truth_measurements(aiding: AidingConfig) -> dict[str, Measurement]:
     Returns
     -------
     dict
-        ``{sensor: Measurement}``.
+        ``{aid: Measurement}``.
     """
-    out = build_measurements(aiding)
-    g = aiding.gnss
-    if g is not None and g.correlated_sigma > 0:
-        out["gnss"] = GnssFix(g.position_sigma, g.velocity_sigma, g.lever_arm,
-                              g.correlated_sigma, g.correlation_time)
-    return out
-
-
-def _times(rate: float, duration: float, t0: float = 0.0) -> FloatArray:
-    """``t0 + k/rate ≤ t0 + duration``, k ≥ 1 (the sensors' reading times)."""
-    n = int(np.floor(duration * rate * (1 + 1e-12)))
-    return t0 + np.arange(1, n + 1) / rate
+    return build_measurements(aiding, truth=True)
 
 
 def reading_times(aiding: AidingConfig, motion: BaseMotion, rate: float, duration: float
                   ) -> tuple[dict[str, FloatArray], np.ndarray, list[str]]:
-    """When each aid reads, as :func:`~imunav.sensors.aiding.simulate_aiding` and
-    :func:`~imunav.estimation.filters.run_filter` schedule it — every GNSS fix, the outages
-    included (they are told apart by the mask).
+    """When each aid reads along ``motion`` (each aid's ``times``, as the simulation and the
+    filter schedule it) — every GNSS fix, the outages included (they are told apart by the
+    mask).
 
     Parameters
     ----------
@@ -127,7 +115,7 @@ def reading_times(aiding: AidingConfig, motion: BaseMotion, rate: float, duratio
     Returns
     -------
     times : dict
-        ``{sensor: (k,) times}``.
+        ``{aid: (k,) times}``, in the registry's order.
     outage : ndarray of bool
         Per GNSS fix: inside the file's ``outages``.
     warnings : list of str
@@ -135,25 +123,12 @@ def reading_times(aiding: AidingConfig, motion: BaseMotion, rate: float, duratio
     out: dict[str, FloatArray] = {}
     warnings: list[str] = []
     outage = np.zeros(0, dtype=bool)
+    for name in aiding.sensors:
+        spec, cfg = AIDS[name], aiding.get(name)
+        out[name] = spec.times(cfg, motion, rate, duration)
+        warnings += spec.analysis_warnings(cfg)
     if aiding.gnss is not None:
-        out["gnss"] = _times(aiding.gnss.rate, duration)
         outage = aiding.gnss.in_outage(out["gnss"])
-    for name in ("baro", "heading", "nhc"):
-        c = getattr(aiding, name)
-        if c is not None:
-            out[name] = _times(c.rate, duration)
-    if aiding.zupt is not None:
-        if aiding.zupt.detector == "shoe":
-            warnings.append("the covariance analysis applies zero-velocity updates over the true "
-                            "stance phases: the SHOE detector's misses and false stances are in "
-                            "the Monte Carlo only (--runs)")
-        intervals = true_stance(motion, rate, duration)
-        n = interval_count(rate, duration)
-        tn = np.arange(n + 1) / rate
-        keep = np.zeros(tn.size, dtype=bool)
-        for a, b in intervals:
-            keep |= (tn >= a - 1e-12) & (tn <= b + 1e-12)
-        out["zupt"] = tn[keep]
     return out, outage, warnings
 
 
@@ -280,84 +255,75 @@ class AlongTruth:
         Per epoch, its readings in the filter's order.
     ingredients : list of Ingredient
     warnings : list of str
+
+    Raises
+    ------
+    ImunavError
+        For a non-positive rate or covariance step, no aid at all, or an aid that reads faster
+        than the IMU.
     """
 
-    def __init__(self, motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: float,
-                 duration: float, *, kind: str = "increments", covariance_step: float = 0.1,
-                 algorithm: str | None = None, g: float = G0, terms: bool = False):
-        if motion.frame != "flat":
-            raise ImunavError("the aided covariance analysis works in the flat frame so far",
-                              argument="earth")
+    def __init__(self, motion: BaseMotion, imu: ImuModel, aiding: AidingConfig | None,
+                 rate: float, duration: float, *, kind: str = "increments",
+                 covariance_step: float = 0.1, algorithm: str | None = None, g: float = G0,
+                 terms: bool = False, measurements: list | None = None):
         rate = check_positive(rate, "rate")
         check_positive(covariance_step, "covariance_step")
-        if not aiding.sensors:
-            raise ImunavError("aiding has no aiding sensor ([gnss], [baro], [heading], [nhc] or "
-                              "[zupt])", argument="aiding")
+        aiding = aiding if aiding is not None else AidingConfig()
+        extra = list(measurements or [])
+        if not aiding.sensors and not extra:
+            raise ImunavError("aiding has no aiding sensor ("
+                              + ", ".join(f"[{n}]" for n in AIDS) + ")", argument="aiding")
         self.motion, self.imu, self.aiding, self.rate, self.g = motion, imu, aiding, rate, g
+        self.frame = motion.frame
+        earth = self.frame == "wgs84"
         h = self.h = 1.0 / rate
         N = self.N = interval_count(rate, duration)
         self.duration = N * h
         algo = resolve(kind, algorithm)
-        for name in SENSOR_ORDER:                # readings faster than the IMU's samples
-            r_aid = getattr(getattr(aiding, name, None), "rate", None)
+        for name in aiding.sensors:              # readings faster than the IMU's samples
+            r_aid = AIDS[name].rate(aiding.get(name))
             if r_aid is not None and r_aid > rate * (1 + 1e-12):
                 raise ImunavError(f"[{name}] rate = {r_aid:g} Hz is above the IMU rate of "
                                   f"{rate:g} Hz: expected at most {rate:g} Hz (the filter "
                                   "updates at IMU samples)", argument="aiding")
         times, gnss_outage, self.warnings = reading_times(aiding, motion, rate, N * h)
+        t_meas = list(truth_measurements(aiding).values()) + [a.measurement for a in extra]
+        f_meas = list(build_measurements(aiding).values()) + [a.measurement for a in extra]
+        names = list(times) + [a.name for a in extra]
+        all_times = list(times.values()) + [a.t for a in extra]
         # ---------------------------------------------------------------- epochs
-        sched: dict[int, list] = {}
-        for name in SENSOR_ORDER:
-            if name not in times:
-                continue
-            t = times[name]
-            k = np.clip(np.rint(t / h / algo.align).astype(int) * algo.align, 0, N)
-            for j in range(t.size):
-                sched.setdefault(int(k[j]), []).append((name, float(t[j]), j,
-                                                        float(t[j] - k[j] * h)))
-        if 0 in sched:                   # an update on the initial state: not modelled here
-            name, t0 = sched[0][0][:2]
-            if name == "zupt":
-                raise ImunavError(f"[zupt]: the motion stands still at t = {t0:.6g} s, and the "
-                                  "aided covariance analysis cannot apply a zero-velocity "
-                                  "update at the very start (node 0) yet: give the motion a "
-                                  "moving start, or drop [zupt]", argument="aiding")
-            raise ImunavError(f"[{name}]: its first reading (t = {t0:.6g} s) falls on the very "
-                              f"start (node 0) at the IMU rate of {rate:g} Hz, which the aided "
-                              f"covariance analysis does not support: keep its rate below "
-                              f"{2 * rate / algo.align:g} Hz", argument="aiding")
-        updates = sorted(sched)
-        if not updates or updates[-1] != N:
-            updates.append(N)
-        m_cov = max(1, int(round(covariance_step / h)))
-        m_cov = max(algo.align, m_cov // algo.align * algo.align)
-        bounds, a = [0], 0
-        for b in updates:
-            bounds += list(range(a, b, m_cov))[1:] + [b]
-            a = b
-        nodes = self.nodes = np.asarray(bounds)
+        sched = Schedule(0.0, h, N, algo.align)
+        for i, t in enumerate(all_times):
+            sched.add(i, t, names[i])
+        nodes = self.nodes = np.asarray(sched.bounds(step_length(covariance_step, h,
+                                                                  algo.align)))
         self.t = nodes * h
         E = nodes.size - 1
         lo, hi = nodes[:-1], nodes[1:]
         L = hi - lo
         tm = (lo + hi) * (h / 2)
-        v = motion.velocity(self.t)
-        C = motion.dcm(tm)
-        f_n = (v[1:] - v[:-1]) / (L * h)[:, None] - np.array([0.0, 0.0, g])
-        omega = motion.angular_rate(tm)
-        f_b = motion.specific_force(tm, g)
-        traj = Trajectory(h, self.t, C, f_n, omega, f_b,
-                          float(np.linalg.norm(omega, axis=1).max()),
-                          float(np.linalg.norm(f_b, axis=1).max()))
+        if earth:
+            traj = _earth_trajectory(motion, h, self.t, tm)
+            self.output = local_error_map(self.t, *_local_states(motion, self.t))
+        else:
+            v = motion.velocity(self.t)
+            C = motion.dcm(tm)
+            f_n = (v[1:] - v[:-1]) / (L * h)[:, None] - np.array([0.0, 0.0, g])
+            omega = motion.angular_rate(tm)
+            f_b = motion.specific_force(tm, g)
+            traj = Trajectory(h, self.t, C, f_n, omega, f_b,
+                              float(np.linalg.norm(omega, axis=1).max()),
+                              float(np.linalg.norm(f_b, axis=1).max()))
+            self.output = None
         peaks = (traj.max_rate, traj.max_force)
         # ---------------------------------------------------------------- the two models
         decimate = imu.decimation(rate)
-        t_meas = truth_measurements(aiding)
-        f_meas = build_measurements(aiding)
-        truth = self.truth = AidedSystem(imu, list(t_meas.values()), h=h, kind=kind,
-                                         decimate=decimate, peaks=peaks, initial=aiding.initial)
-        filt = AidedSystem(imu, list(f_meas.values()), h=h, kind=kind, decimate=decimate,
-                           peaks=peaks, initial=aiding.initial)
+        model = EARTH if earth else FLAT
+        truth = self.truth = AidedSystem(imu, t_meas, h=h, kind=kind, decimate=decimate,
+                                         peaks=peaks, initial=aiding.initial, model=model)
+        filt = AidedSystem(imu, f_meas, h=h, kind=kind, decimate=decimate, peaks=peaks,
+                           initial=aiding.initial, model=model)
         self.warnings += list(truth.warnings)
         n = self.n = truth.n
         emb = np.zeros(n, dtype=bool)
@@ -367,12 +333,12 @@ class AlongTruth:
                 raise ImunavError(f"the filter's state {name!r} is not in the truth model")
             emb[tsl] = True
         self.filter_states = emb
-        for m in f_meas.values():                  # the filter's aids in the truth's coordinates
+        for m in f_meas:                           # the filter's aids in the truth's coordinates
             m.bind(truth.layout)
         self.layout = truth.layout
         # ---------------------------------------------------------------- the ingredients
         aid_states = np.zeros(n, dtype=bool)
-        for m in t_meas.values():
+        for m in t_meas:
             for s in m.states:
                 aid_states[truth.layout[s.name]] = True
         Qc_imu = np.where(aid_states, 0.0, truth.Qc)
@@ -414,7 +380,7 @@ class AlongTruth:
             ingredients.append(Ingredient("imu", "imu", block(truth.P0, sl), 0))
         # the aids' own states (Q only on their own diagonal: they do not drive the navigation)
         aid_q: list[tuple[int, slice]] = []
-        for m in t_meas.values():
+        for m in t_meas:
             for s in m.states:
                 sl = truth.layout[s.name]
                 aid_q.append((len(ingredients), sl))
@@ -469,19 +435,52 @@ class AlongTruth:
         # ---------------------------------------------------------------- the readings
         epoch_of = {int(k): e for e, k in enumerate(nodes)}
         self.readings: list[list[Reading]] = [[] for _ in range(E + 1)]
-        rk = sorted(sched)
+        rk = sorted(sched.at)
         tr = np.array([k * h for k in rk])
-        q_n, v_n, p_n = motion.attitude(tr), motion.velocity(tr), motion.position(tr)
-        w_n, f_bn = motion.angular_rate(tr), motion.specific_force(tr, g)
-        Mg = truth.triad_input("gyro", w_n, f_bn)
         zeros = np.zeros(n)
+        if earth:
+            q_n, v_n, lla = _local_states(motion, tr, attitude=True)
+            p_n = np.zeros(lla.shape)
+            p_n[:, 2] = -lla[:, 2]
+            w_n = motion.angular_rate(tr)
+            w_n = w_n - quat_rotate(quat_conj(q_n), earth_rate_ned(lla[:, 0]))
+            f_bn = motion.specific_force(tr)
+            M_r = local_error_map(tr, lla, v_n)
+        else:
+            q_n, v_n, p_n = motion.attitude(tr), motion.velocity(tr), motion.position(tr)
+            w_n, f_bn = motion.angular_rate(tr), motion.specific_force(tr, g)
+        Mg = truth.triad_input("gyro", motion.angular_rate(tr), f_bn)
         for i, k in enumerate(rk):
-            for name, t, j, dt in sched[k]:
+            for ai, j, dt, t in sched.at[k]:
                 nav = NavPoint(q_n[i], v_n[i], p_n[i], w_n[i], dt, zeros, Mg[i])
-                ft, ff = t_meas[name], f_meas[name]
+                ft, ff = t_meas[ai], f_meas[ai]
+                Hf, Ht = _jacobian(ff, nav), _jacobian(ft, nav)
+                if earth:
+                    Hf[:, :NAV] = Hf[:, :NAV] @ M_r[i]
+                    Ht[:, :NAV] = Ht[:, :NAV] @ M_r[i]
+                name = names[ai]
                 self.readings[epoch_of[k]].append(Reading(
-                    name, t, j, ff.jacobian(nav), ff.noise(), ft.jacobian(nav), ft.noise(),
-                    bool(name == "gnss" and gnss_outage[j])))
+                    name, t, j, Hf, ff.noise(), Ht, ft.noise(),
+                    bool(name == "gnss" and ai < len(times) and gnss_outage[j])))
+
+    def local(self, P: FloatArray, e) -> FloatArray:
+        """Navigation covariances of the error state in the terms a user reads: the identity in
+        the flat frame; on the Earth those of the local NED errors at the true position.
+
+        Parameters
+        ----------
+        P : ndarray, shape (..., 9, 9)
+        e : int or ndarray
+            Their epochs.
+
+        Returns
+        -------
+        ndarray, shape (..., 9, 9)
+        """
+        if self.output is None:
+            return P
+        M = self.output[e]
+        return M @ P @ np.swapaxes(M, -1, -2)
 
     # -------------------------------------------------------------------- weights
     def weights(self, imu_scale: float = 1.0, split: bool = False,
@@ -573,16 +572,30 @@ class AlongTruth:
         fp, fq = np.empty((B, nkeep, k, k)), np.empty((B, nkeep, k, k))
         tp, tq = np.empty((B, M1 - 1, nkeep, k, k)), np.empty((B, M1 - 1, nkeep, k, k))
 
-        def record(slot, prior):
+        def record(slot, prior, e):
             if not keep:
                 return
-            nav = P[:, :, :k, :k]
+            nav = self.local(P[:, :, :k, :k], e)
             (fp if prior else fq)[:, slot] = nav[:, 0]
             (tp if prior else tq)[:, :, slot] = nav[:, 1:]
 
-        record(0, True)
-        record(0, False)
+        def readings(e, P, gi):
+            for r in self.readings[e]:
+                if r.sensor == "gnss":
+                    act = active[:, gi]
+                    gi += 1
+                    if not act.any():
+                        continue
+                else:
+                    act = None
+                P = _update(P, r, act, r_scale.get(r.sensor))
+            return P, gi
+
+        record(0, True, start)
         gi = sum(1 for rs in self.readings[:start + 1] for r in rs if r.sensor == "gnss")
+        if P_start is None and self.readings[0]:         # readings on the initial state
+            P, gi = readings(0, P, 0)
+        record(0, False, start)
         for e in range(start, stop):
             F, G, D = self.F[e], self.G[e], self.D[e]
             Qnn = sum(W[:, j, None, None] * self.Q[q][0][e] for j, q in jq)
@@ -593,19 +606,11 @@ class AlongTruth:
                 add[:, sl.start - k:sl.stop - k] = W[:, j, None] * self.Qaid[e, sl.start - k:
                                                                               sl.stop - k]
                 Qss = Qss + add
-            P = predict_blocks(P, F, G, D, Qnn, Qns, Qss)
+            P = predict_blocks(P, F, G, D, Qnn, Qns, Qss[..., :, None] * np.eye(Qss.shape[-1]))
             slot = e + 1 - start if keep else 0
-            record(slot, True)
-            for r in self.readings[e + 1]:
-                if r.sensor == "gnss":
-                    act = active[:, gi]
-                    gi += 1
-                    if not act.any():
-                        continue
-                else:
-                    act = None
-                P = _update(P, r, act, r_scale.get(r.sensor))
-            record(slot, False)
+            record(slot, True, e + 1)
+            P, gi = readings(e + 1, P, gi)
+            record(slot, False, e + 1)
         return PassResult(self.t[start:stop + 1] if keep else self.t[stop:stop + 1],
                           fp, fq, tp, tq, P)
 
@@ -615,23 +620,43 @@ def _update(P, r: Reading, active, r_scale):
     (``H_f``, ``R_f``) and for every truth row (``H_t``, ``R_t`` times the row's weight of
     this aid's white noise); scenarios where the reading is not used keep ``P``."""
     Pf = P[:, 0]
-    HP = r.Hf @ Pf                                            # (B, m, n)
-    S = HP @ r.Hf.T + r.Rf
-    S = 0.5 * (S + np.swapaxes(S, -1, -2))
-    K = np.swapaxes(np.linalg.solve(S, HP), -1, -2)            # (B, n, m) = P Hᵀ S⁻¹
+    K, _, HP = gain(Pf, r.Hf, r.Rf)                            # (B, n, m)
     if active is not None:
         K = K * active[:, None, None]
     out = np.empty_like(P)
-    KHP = K @ HP
-    Pn = Pf - KHP - np.swapaxes(KHP, -1, -2) + K @ S @ np.swapaxes(K, -1, -2)
-    out[:, 0] = 0.5 * (Pn + np.swapaxes(Pn, -1, -2))
-    Pt = P[:, 1:]
-    HtP = r.Ht @ Pt                                           # (B, M, m, n)
-    St = HtP @ r.Ht.T
-    scale = np.ones(Pt.shape[1]) if r_scale is None else r_scale[1:]
-    St = St + scale[:, None, None] * r.Rt
-    Kb = K[:, None]
-    KH = Kb @ HtP
-    Pn = Pt - KH - np.swapaxes(KH, -1, -2) + Kb @ St @ np.swapaxes(Kb, -1, -2)
-    out[:, 1:] = 0.5 * (Pn + np.swapaxes(Pn, -1, -2))
+    out[:, 0] = joseph(Pf, K, r.Hf, r.Rf, HP)
+    scale = np.ones(P.shape[1] - 1) if r_scale is None else r_scale[1:]
+    out[:, 1:] = joseph(P[:, 1:], K[:, None], r.Ht, scale[:, None, None] * r.Rt)
     return out
+
+
+def _jacobian(m: Measurement, nav: NavPoint) -> FloatArray:
+    """A measurement's Jacobian at one point (a model that takes batches given a batch of
+    one)."""
+    if m.batched:
+        one = NavPoint(nav.q[None], nav.v[None], nav.p[None], nav.omega[None], nav.dt,
+                       nav.estimates[None], nav.gyro_input[None])
+        return np.array(m.jacobian(one)[0], dtype=float)
+    return np.array(m.jacobian(nav), dtype=float)
+
+
+def _local_states(motion, t: FloatArray, attitude: bool = False):
+    """An EarthMotion's local states at ``t``: ``[lat, lon, h]`` and NED velocity (with
+    ``attitude``: ``q_nb`` first)."""
+    st = motion.states(t)
+    if attitude:
+        return st.quaternion, st.velocity, st.position
+    return st.position, st.velocity
+
+
+def _earth_trajectory(motion, h: float, t: FloatArray, tm: FloatArray) -> Trajectory:
+    """The inertial-frame linearisation of an EarthMotion over steps ending at ``t[1:]`` with
+    midpoints ``tm`` (steps of any length; the inertial frame is ECEF at t = 0)."""
+    C = dcm_ecef_to_inertial(tm) @ quat_to_dcm(motion.ecef_attitude(tm))     # C_ib
+    w = motion.angular_rate(tm)
+    fb = motion.specific_force(tm)
+    f_i = np.einsum("nij,nj->ni", C, fb)
+    r_i = np.einsum("nij,nj->ni", dcm_ecef_to_inertial(tm), motion.ecef(tm)[0])
+    return Trajectory(h, t, C, f_i, w, fb, float(np.linalg.norm(w, axis=1).max()),
+                      float(np.linalg.norm(fb, axis=1).max()), "wgs84",
+                      gravitation_gradient(r_i))
