@@ -24,7 +24,8 @@ The processing chain (library functions below, in the paper's order):
    corrected for the final orientation, is subtracted from all data after the onset; the
    residual velocity is the check.
 
-May import: anything below the papers (``imunav.core`` … ``imunav.io``), ``imunav.symbolic``.
+May import: anything below the papers (``imunav.core`` … ``imunav.io``), ``imunav.symbolic``,
+and the figure style ``imunav.plotting.style``.
 """
 
 from __future__ import annotations
@@ -36,7 +37,6 @@ import numpy as np
 import numpy.typing as npt
 import sympy as sp
 
-from imunav.core import style
 from imunav.core.constants import DEG, G0
 from imunav.core.kernels import quat_angle as _angle
 from imunav.core.kernels import quat_exp as _exp
@@ -47,6 +47,7 @@ from imunav.core.validation import ImunavError, as_float_array, check_positive
 from imunav.motion.analytic import Motion
 from imunav.motion.laws import T
 from imunav.papers.records import record, small
+from imunav.plotting.style import colour, figure, style
 from imunav.sensors.simulate import simulate_imu
 from imunav.strapdown.alignment import gravity_reading, level_attitude, remove_static_biases
 from imunav.strapdown.scan import cumulative_product
@@ -436,11 +437,11 @@ def draw_object(ax, q: FloatArray, p: FloatArray, color="C0"):
 def plot_rates(rec: BlastRecording, ax=None):
     """Fig. 2 analogue: raw angular rates (°/s) in the sensor frame, with the gyro's range."""
     if ax is None:
-        _, ax = style.figure(1, 1, height=3.0)
+        _, ax = figure(1, 1, height=3.0)
     s = slice(None, None, 20)
     for i, c in enumerate("XYZ"):
         ax.plot(rec.t[s], np.degrees(rec.gyro[s, i]), lw=0.9, label=f"about {c}",
-                **style.style(f"axis.{'xyz'[i]}"))
+                **style(f"axis.{'xyz'[i]}"))
     ax.axhline(np.degrees(rec.gyro_range), color="0.3", ls=":", lw=1, label="gyro range")
     ax.axhline(-np.degrees(rec.gyro_range), color="0.3", ls=":", lw=1)
     ax.set(xlabel="t (s)", ylabel="angular rate (°/s)",
@@ -453,7 +454,7 @@ def plot_angles(rec: BlastRecording, res: BlastResult, fig=None):
     """Fig. 3 analogue: yaw, pitch, roll (°) vs time — processed (thin) drawn over the truth
     (a wide light band) — and, below, processed minus truth for each angle."""
     if fig is None:
-        fig, (ax, ax2) = style.figure(2, 1, height=4.6, sharex=True,
+        fig, (ax, ax2) = figure(2, 1, height=4.6, sharex=True,
                                       gridspec_kw={"height_ratios": (2, 1)})
     else:
         ax, ax2 = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": (2, 1)})
@@ -461,7 +462,7 @@ def plot_angles(rec: BlastRecording, res: BlastResult, fig=None):
     e = np.degrees(quat_to_euler(res.q[s]))
     et = np.degrees(quat_to_euler(rec.truth_q[s]))
     for i, (nm, ax_id) in enumerate((("yaw", "axis.z"), ("pitch", "axis.y"), ("roll", "axis.x"))):
-        c = style.colour(ax_id)
+        c = colour(ax_id)
         ax.plot(rec.t[s], et[:, i], color=c, lw=6, alpha=0.25, label=f"{nm}, truth (band)")
         ax.plot(rec.t[s], e[:, i], color=c, lw=1.0, label=f"{nm}, processed")
         ax2.plot(rec.t[s], np.angle(np.exp(1j * np.radians(e[:, i] - et[:, i]))) * 180 / np.pi,
@@ -822,7 +823,7 @@ def plot_tait_bryan(psi: float = 40 * DEG, theta: float = 25 * DEG, phi: float =
              (f"heading ψ = {np.degrees(psi):.0f}° about z", (psi, 0.0, 0.0)),
              (f"elevation θ = {np.degrees(theta):.0f}° about new y", (psi, theta, 0.0)),
              (f"bank φ = {np.degrees(phi):.0f}° about new x", (psi, theta, phi))]
-    colours = [style.colour(f"axis.{a}") for a in "xyz"]
+    colours = [colour(f"axis.{a}") for a in "xyz"]
     for n, (title, (a, b, c)) in enumerate(steps):
         ax = fig.add_subplot(2, 2, n + 1, projection="3d")
         q = tait_bryan_to_quat(a, b, c)

@@ -22,7 +22,8 @@ rotation vector of ``C_kᵀ C_{k+1}`` (the matrix logarithm), Part B ``C_{k+1} =
 by Rodrigues' formula — which settles the paper's Conclusion 2 ("DCMs can scarcely be
 amended") by computation.
 
-May import: anything below the papers (``imunav.core`` … ``imunav.io``), ``imunav.symbolic``.
+May import: anything below the papers (``imunav.core`` … ``imunav.io``), ``imunav.symbolic``,
+and the figure style ``imunav.plotting.style``.
 """
 
 from __future__ import annotations
@@ -32,7 +33,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from imunav.analysis.metrics import fit_order, nav_errors
-from imunav.core import style
 from imunav.core.constants import G0
 from imunav.core.kernels import quat_exp as _exp
 from imunav.core.kernels import quat_mul as _mul
@@ -42,6 +42,7 @@ from imunav.core.rotations import FloatArray, euler_to_quat, quat_angle, quat_fr
 from imunav.core.validation import ImunavError, check_positive
 from imunav.motion.analytic import Motion
 from imunav.papers.records import judge, printed_precision, record, relative_difference, small
+from imunav.plotting.style import colour, figure, rate_ticks, style
 from imunav.sensors.simulate import simulate_imu
 from imunav.strapdown.registry import navigate
 from imunav.strapdown.scan import cumulative_product, prefix_product
@@ -660,7 +661,7 @@ def combo_name(a: str, b: str) -> str:
 def combo_style(a: str, b: str) -> dict:
     """Colour and line style of a Part A / Part B pair: Part B's scheme's colour (it sets the
     error), solid when both parts agree, dotted when Part A differs."""
-    return style.style(b, linestyle="-" if a == b else ":")
+    return style(b, linestyle="-" if a == b else ":")
 
 
 def _log_floor(ax, curves, decades: float = 8.0) -> None:
@@ -675,7 +676,7 @@ def plot_error_vs_rate(curves: dict, rates=(25, 50, 100, 200, 400, 800, 1600, 32
     1/rate² slope guides a decade below the first pair and the first mixed pair; pairs whose
     curves coincide within 1 % are drawn once and named together."""
     if ax is None:
-        _, ax = style.figure(1, 1, height=4.2)
+        _, ax = figure(1, 1, height=4.2)
     drawn: list[tuple[np.ndarray, list[tuple[str, str]]]] = []
     for (a, b), e in curves.items():
         e = np.maximum(np.asarray(e, float), 1e-16)
@@ -700,7 +701,7 @@ def plot_error_vs_rate(curves: dict, rates=(25, 50, 100, 200, 400, 800, 1600, 32
                   label="slope of 1/rate² (guide)")
     ax.set(xlabel="sample rate (Hz)", ylabel="max position discrepancy (m)",
            title="Fig. 1a trajectory: discrepancy vs sample rate")
-    style.rate_ticks(ax, rates)
+    rate_ticks(ax, rates)
     ax.figure.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncols=2)
     return ax.figure
 
@@ -712,7 +713,7 @@ def plot_round_trips(items, fig_name: str, fig=None):
 
     ``items``: ``[(round_trip result, rate, scheme A, scheme B), …]``."""
     if fig is None:
-        fig, (ax0, ax1) = style.figure(1, 2, height=3.2)
+        fig, (ax0, ax1) = figure(1, 2, height=3.2)
     else:
         ax0, ax1 = fig.subplots(1, 2)
     o = items[0][0]["original"]
@@ -721,7 +722,7 @@ def plot_round_trips(items, fig_name: str, fig=None):
     ax0.plot(o[:, i], o[:, j], "-", color="0.6", lw=4, label="original")
     worst = max(items, key=lambda it: it[0]["max"])
     r = worst[0]["restored"]
-    ax0.plot(r[:, i], r[:, j], "--", color=style.colour(worst[3]), lw=1.2,
+    ax0.plot(r[:, i], r[:, j], "--", color=colour(worst[3]), lw=1.2,
              label=f"restored: {combo_name(worst[2], worst[3])}, {worst[1]:g} Hz")
     ax0.set(xlabel=f"{names[i]} (m)", ylabel=f"{names[j]} (m)", title="trajectory")
     # below the panel: inside, a legend covers part of a closed curve (Fig. 1b's ellipse)
@@ -745,7 +746,7 @@ def plot_round_trips(items, fig_name: str, fig=None):
 def plot_fig3(deg, omc, ams, ax=None):
     """Fig. 3: 1 − cos α and α − sin α for α from 0 to 5°."""
     if ax is None:
-        _, ax = style.figure(1, 1, width=5.0, height=3.0)
+        _, ax = figure(1, 1, width=5.0, height=3.0)
     ax.plot(deg, omc, color="C0", label="1 − cos α  (the error of cos α ≈ 1)")
     ax.plot(deg, ams, color="C1", label="α − sin α  (the error of sin α ≈ α)")
     ax.set(xlabel="α (deg)", ylabel="error of the approximation",

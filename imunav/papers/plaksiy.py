@@ -7,7 +7,8 @@ Eq. (3) as printed has a typo in λ₂ (see :mod:`imunav.symbolic.plaksiy`); the
 (:class:`~imunav.motion.quaternion_law.FourRotationMotion`, general and so in the motion layer)
 uses the corrected, verified product ``Λ = q₃(φ) ∘ q₂(ψ) ∘ q₁(ϑ) ∘ q₂(χ)``.
 
-May import: anything below the papers (``imunav.core`` … ``imunav.io``), ``imunav.symbolic``.
+May import: anything below the papers (``imunav.core`` … ``imunav.io``), ``imunav.symbolic``,
+and the figure style ``imunav.plotting.style``.
 """
 
 from __future__ import annotations
@@ -18,7 +19,6 @@ import numpy as np
 import numpy.typing as npt
 
 from imunav.analysis.metrics import fit_order
-from imunav.core import style
 from imunav.core.kernels import quat_angle as _angle
 from imunav.core.kernels import quat_exp as _exp
 from imunav.core.rotations import FloatArray, quat_conj, quat_mul
@@ -28,6 +28,7 @@ from imunav.motion.laws import T as LAW_T
 from imunav.motion.quaternion_law import PAPER_K as PAPER_K  # the paper's Fig. 1–3 frequencies
 from imunav.motion.quaternion_law import FourRotationMotion
 from imunav.papers.records import judge, record, small
+from imunav.plotting.style import colour, figure, style
 from imunav.sensors.quadrature import integrate_intervals
 from imunav.strapdown.scan import cumulative_product
 from imunav.symbolic import plaksiy as S
@@ -362,11 +363,11 @@ def plot_quasi_coordinates(motion: FourRotationMotion, duration: float = 200.0, 
     t = np.arange(int(round(duration / dt)) + 1) * dt
     q = quasi_coordinates(motion, t)
     if fig is None:
-        fig, axs = style.figure(3, 1, height=4.6, sharex=True)
+        fig, axs = figure(3, 1, height=4.6, sharex=True)
     else:
         axs = fig.subplots(3, 1, sharex=True)
     for i, ax in enumerate(axs):
-        ax.plot(t[1:], q[:, i], lw=0.8, color=style.colour(f"axis.{'xyz'[i]}"))
+        ax.plot(t[1:], q[:, i], lw=0.8, color=colour(f"axis.{'xyz'[i]}"))
         ax.set_ylabel(f"θ*{'₁₂₃'[i]} (rad)")
     axs[-1].set_xlabel("t (s)")
     fig.suptitle(f"Fig. 1: quasi-coordinates over each Δt = {dt:g} s, "
@@ -379,7 +380,7 @@ def plot_configuration_space(motion: FourRotationMotion, duration: float = 200.0
     """Fig. 2: λ₁(λ₀), λ₂(λ₀), λ₃(λ₀), λ₂(λ₁), each on equal axes from −1 to 1."""
     lam = motion.attitude(np.arange(int(round(duration / dt)) + 1) * dt)
     if fig is None:
-        fig, axs = style.figure(2, 2, width=5.6, height=5.6)
+        fig, axs = figure(2, 2, width=5.6, height=5.6)
     else:
         axs = fig.subplots(2, 2)
     for ax, (i, j) in zip(axs.flat, [(0, 1), (0, 2), (0, 3), (1, 2)], strict=True):
@@ -394,12 +395,12 @@ def plot_drift(runs: dict[str, list[DriftRun]], fig=None):
     """Fig. 3: drift (rad) vs time for each coefficient set, both update forms, with the
     paper's final value (Table 1) as a marker at 1000 s."""
     if fig is None:
-        fig, axs = style.figure(1, len(runs), height=3.3, sharey=True)
+        fig, axs = figure(1, len(runs), height=3.3, sharey=True)
     else:
         axs = fig.subplots(1, len(runs), sharey=True)
     for ax, (key, rs) in zip(np.atleast_1d(axs), runs.items(), strict=True):
         for r in rs:
-            ax.plot(r.t, 1e3 * r.drift, label=FORM_NAMES[r.form], **style.style(r.form))
+            ax.plot(r.t, 1e3 * r.drift, label=FORM_NAMES[r.form], **style(r.form))
         ax.plot([rs[0].t[-1]], [1e3 * TABLE1[key][1]], "k*", ms=9, label="Table 1")
         ax.set(title=SET_TITLES[key], xlabel="t (s)")
     np.atleast_1d(axs)[0].set_ylabel("drift (mrad)")
@@ -418,16 +419,16 @@ def plot_coefficient_lab(alphas, on_line: dict[str, FloatArray], grid_alphas, gr
     from matplotlib.colors import LogNorm
 
     if fig is None:
-        fig, (ax, ax2) = style.figure(1, 2, height=3.8)
+        fig, (ax, ax2) = figure(1, 2, height=3.8)
     else:
         ax, ax2 = fig.subplots(1, 2)
     for form, d in on_line.items():
-        ax.semilogy(alphas, d, label=FORM_NAMES[form], **style.style(form))
+        ax.semilogy(alphas, d, label=FORM_NAMES[form], **style(form))
     pa = [TABLE1[k][0][0] for k in TABLE1]
     ax.semilogy(pa, [TABLE1[k][1] for k in TABLE1], "k*", ms=8,
                 label="Table 1 (Miller, conic, new)")
     for form, a_opt in (optima or {}).items():
-        ax.axvline(a_opt, color=style.colour(form), ls=":", lw=1.2,
+        ax.axvline(a_opt, color=colour(form), ls=":", lw=1.2,
                    label=f"optimum, {FORM_NAMES[form]}: α = {a_opt:.2f}")
     ax.set(xlabel="α (β = 90/80 − α)", ylabel="final drift at 1000 s (rad)",
            title="on the line α + β = 90/80")

@@ -1,6 +1,8 @@
-"""The one figure style of imunav, and the figure check (re-exported by :mod:`imunav.plotting`,
-where the plot functions are; here, in the bottom layer, so that every module that draws — the
-papers' too — uses the same names and colours).
+"""The one figure style of imunav, and the figure check: the plotting room's style module
+(re-exported by :mod:`imunav.plotting`, where the plot functions are). It imports nothing of
+imunav, so the papers — one floor below the plotting room — may import it (the one exception to
+the floors, ``tests/test_layering.py``): every module that draws uses the same names and colours.
+``imunav.core.style``, its former home, still imports with a ``DeprecationWarning`` until 0.3.
 
 **Style.** Call :func:`use_book_style` once (the first cell of every notebook does): figures are
 stored at 150 dpi, their text at 8–10 pt, and they are displayed at their size in inches (96 CSS
@@ -422,7 +424,7 @@ def _texts(fig, ax=None):
 
 
 def _words(i: str) -> str:
-    return f"write {name(i)!r}" if name(i) != i else "write it in words: imunav.core.style.name"
+    return f"write {name(i)!r}" if name(i) != i else "write it in words: imunav.plotting.style.name"
 
 
 def check_figure(fig) -> list[str]:

@@ -1,7 +1,9 @@
 """The plot functions behind the notebooks and ``imunav reproduce`` (general ones; each paper
-module draws its own figures), in the one figure style of :mod:`imunav.core.style` — re-exported
+module draws its own figures), in the one figure style of :mod:`imunav.plotting.style` — re-exported
 here, so ``from imunav.plotting import styled, use_book_style, check_figure`` works: one readable
-name, one colour and line style per named thing in every figure, and the figure check.
+name, one colour and line style per named thing in every figure, and the figure check. (The
+package's attribute ``style`` is the function :func:`style`, as before the move; import the
+module's names from it directly: ``from imunav.plotting.style import check_figure``.)
 
 Each plot function takes computed results and an optional axes/figure, draws, and returns it;
 nothing here computes what the analysis layer already does.
@@ -15,7 +17,8 @@ import numpy as np
 
 from imunav.analysis.montecarlo import MonteCarloResult
 from imunav.analysis.roundtrip import RoundTrip, round_trip
-from imunav.core.style import (  # noqa: F401 — the style's API, re-exported
+from imunav.motion.base import BaseMotion
+from imunav.plotting.style import (  # noqa: F401 — the style's API, re-exported
     ALGORITHM_GROUPS,
     BOOK_RC,
     DISTINCT,
@@ -41,7 +44,6 @@ from imunav.core.style import (  # noqa: F401 — the style's API, re-exported
     units_in,
     use_book_style,
 )
-from imunav.motion.base import BaseMotion
 
 # ------------------------------------------------------------ round trips
 
