@@ -26,7 +26,8 @@ def clean():
     ax.plot(T, np.sin(T), **P.styled("increments/coning2"))
     ax.plot(T, np.cos(T), **P.styled("increments/poly8_m6"))
     ax.set(xlabel="t (s)", ylabel="attitude error (deg)", title="two algorithms")
-    ax.legend()
+    ax.set_xlim(0, 15)                       # room on the right for the legend
+    ax.legend(loc="center right")
     return fig, ax
 
 
@@ -68,8 +69,8 @@ def test_a_wide_translucent_underlay_and_a_dashed_line_on_top_are_not_hidden():
     ax.plot(T, np.sin(T), **P.styled("estimate", lw=1.2))              # dashed, on top
     ax.plot(T, np.cos(T), **P.styled("increments/coning2"))
     ax.plot(T, np.cos(T), **P.styled("increments/poly8_m6", lw=1.2, ls="--"))
-    ax.set(xlabel="t (s)", ylabel="x (m)")
-    ax.legend()
+    ax.set(xlabel="t (s)", ylabel="x (m)", xlim=(0, 15))
+    ax.legend(loc="center right")
     assert P.check_figure(fig) == []
 
 
@@ -244,7 +245,7 @@ def test_an_unlabelled_dashed_line_under_a_solid_one_is_hidden():
     ax.lines[1].remove()                     # draw the dashed one first, then the solid one
     ax.plot(T, np.cos(T), "--", color="black", lw=1)
     ax.plot(T, np.cos(T), **P.styled("increments/poly8_m6"))
-    ax.legend(loc="lower left")
+    ax.legend(loc="center right")
     msg = one(P.check_figure(fig), "hidden under '8-node fit + Magnus-6'")
     assert "the dashed line (unlabelled, #000000)" in msg
 
