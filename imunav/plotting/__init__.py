@@ -227,6 +227,7 @@ def plot_error_vs_rate(rows: list[dict], rates=(50, 100, 200, 400), fig=None,
     groups = [(title, ids) for title, ids in groups if ids]
     fig = fig or plt.figure(figsize=(MAX_WIDTH_IN, 0.9 + 2.3 * len(groups)), layout="constrained")
     axs = fig.subplots(len(groups), 2, sharex=True, squeeze=False)
+    striped = False
     for row, (title, ids) in enumerate(groups):
         for col, (key, what, unit, scale, floor) in enumerate(
                 (("pos", "position", "m", 1.0, floors[0]),
@@ -234,11 +235,12 @@ def plot_error_vs_rate(rows: list[dict], rates=(50, 100, 200, 400), fig=None,
             ax = axs[row, col]
             series = {i: [max(by_id[i][f"{key}_{r}"] * scale, floor) for r in rates] for i in ids}
             last = row == len(groups) - 1         # the left column's note under its panel
-            plot_coinciding(ax, rates, series, ids, labels=col == 1,   # (no tick labels there)
+            striped |= bool(plot_coinciding(
+                            ax, rates, series, ids, labels=col == 1,   # (no tick labels there)
                             note_loc="lower left" if col or last else "upper left",
                             note_width=34 if col else 40,
                             note_kw=None if col or last else
-                            {"bbox_to_anchor": (-0.35, -0.02), "frameon": False})
+                            {"bbox_to_anchor": (-0.35, -0.02), "frameon": False})["groups"])
             ax.set_xscale("log")
             ax.set_yscale("log")
             if min(min(v) for v in series.values()) <= 10 * floor:
@@ -249,8 +251,10 @@ def plot_error_vs_rate(rows: list[dict], rates=(50, 100, 200, 400), fig=None,
             if row == len(groups) - 1:
                 ax.set_xlabel("sample rate (Hz)")
         axs[row, 1].legend(loc="center left", bbox_to_anchor=(1.02, 0.5), fontsize=8)
-    fig.suptitle("dotted: the rounding floor (errors below it are drawn on it); a striped "
-                 "line is several that coincide", fontsize=8.5)
+    fig.suptitle("dotted: the rounding floor (errors below it are drawn on it)" + (
+        "; a striped line is several that coincide,\ntheir markers side by side around the "
+        "rate they belong to (shifted on the page, not in the data)" if striped else ""),
+        fontsize=8.5)
     return fig
 
 
@@ -284,9 +288,10 @@ def plot_error_vs_time(motion: BaseMotion, rate: float, names, duration: float |
 
 
 def plot_convergence(rows: list[dict], ax=None, key: str = "max_att_rad"):
-    """Log–log maximum error vs rate (at most 8 algorithms), each with a dotted reference line
-    of its documented order; coinciding series are drawn as one striped line, named in a legend
-    entry (:func:`plot_coinciding`)."""
+    """Log–log maximum error vs rate (at most 8 algorithms), each labelled with its measured
+    and (in parentheses) documented order, and the documented slope drawn dotted from its first
+    point where the two differ by more than :data:`DOCUMENTED_APART`; coinciding series are
+    drawn as one striped line, named in a legend entry (:func:`plot_coinciding`)."""
     import matplotlib.pyplot as plt
 
     ax = ax or plt.figure(figsize=(WIDTH_IN, 3.6), layout="constrained").add_subplot()
@@ -296,17 +301,31 @@ def plot_convergence(rows: list[dict], ax=None, key: str = "max_att_rad"):
     series = {i: list(np.asarray(by[i][key]) * scale) for i in ids}
     x = np.asarray(rows[0]["rates"], float)
     drawn = plot_coinciding(ax, x, series, ids)
+    okey, k = {"max_att_rad": ("order_att", 0), "max_vel": ("order_vel", 1),
+               "max_pos": ("order_pos", 2)}[key]
+    dotted = False
     for i, line in drawn["artists"].items():
-        line.set_label(f"{name(i)} ({by[i]['order_att']:.1f})")
-    for i in ids:
-        e, p = np.asarray(series[i]), by[i]["documented"][0]
-        ax.plot(x, e[0] * (x / x[0]) ** (-p), ":", color=colour(i), lw=1)
+        meas, doc = by[i][okey], by[i]["documented"][k]
+        line.set_label(f"{name(i)}: {meas:.1f} ({doc})")
+        if abs(meas - doc) > DOCUMENTED_APART:       # a dotted line on its own curve is hidden
+            e = np.asarray(series[i])
+            ax.plot(x, e[0] * (x / x[0]) ** (-doc), ":", color=colour(i), lw=1)
+            dotted = True
     ax.set(xscale="log", yscale="log", xlabel="sample rate (Hz)",
            ylabel={"max_att_rad": "max attitude error (deg)", "max_vel": "max velocity error (m/s)",
                    "max_pos": "max position error (m)"}[key])
     rate_ticks(ax, x)
-    ax.legend(title="measured order (dotted: documented)")
+    ax.legend(title="measured order (documented)" + (
+        "\ndotted: the documented slope, where it differs" if dotted else "")
+        + ("\nstriped: series that coincide, markers\nside by side (shifted on the page)"
+           if drawn["groups"] else ""))
     return ax
+
+
+#: A measured order this far from the documented one gets the documented slope drawn dotted
+#: beside it; closer, the dotted line would lie on the measured one (the figure check's
+#: "hidden" line) and the legend's numbers say it.
+DOCUMENTED_APART = 0.2
 
 
 # ------------------------------------------------------------ Monte Carlo
