@@ -474,10 +474,11 @@ _ = interact(explore, k1=_slider(0.15, -2, 2, 0.05, "k₁"), k2=_slider(1.55, -2
 # One row per record of the ledger `figures/reproduction.json` (written by
 # `imunav reproduce`), rendered from it — never typed by hand: the paper's value, imunav's, the
 # record's id and its verdict. The verdict rule is written once, in `imunav.papers.records`:
-# *reproduced* within a stated tolerance (never wider than the differences the paper's own
-# conclusion rests on), *consistent with bound* where the paper gives a bound, *differs*, *not
-# reproducible* where the paper lacks what would settle it, *no paper value* where it gives no
-# number. For Table 1 the tolerance is half the smallest gap between the
+# *reproduced* where a paper number is met within a stated tolerance (never wider than the
+# differences the paper's own conclusion rests on), *holds* where a statement without such a
+# number — a conclusion, an identity, a ranking — is borne out by the computation, *consistent
+# with bound* where the paper gives a bound, *differs*, *not reproducible* where the paper
+# lacks what would settle it, *no paper value* where it gives no number. For Table 1 the tolerance is half the smallest gap between the
 # paper's three values, so that values within it keep the paper's ranking.
 
 # %% tags=["hide-input"]
