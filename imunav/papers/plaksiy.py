@@ -500,11 +500,14 @@ def reproduce(out) -> list[dict]:
                        "singular value of Euler's equations I ω̇ + ω×Iω = 0 over every "
                        "constant symmetric inertia, Fig. 1 laws", None, tf["relative_singular"],
                        "1", "differs",
-                       "(3) and (5) solve the kinematic equation (4) identically, but no inertia "
-                       "makes them torque-free: the best leaves "
-                       f"{tf['relative_singular']:.2f} (relative) where a regular precession "
-                       f"gives {small(tf_rp['relative_singular'])}; with the torque Iω̇ + ω×Iω "
-                       "they imply they 'solve' the dynamic equations, as any motion does"))
+                       "read as a torque-free body — the only reading that says something, since "
+                       "any motion solves Euler's equations for the torque Iω̇ + ω×Iω it "
+                       "implies, and the one of the regular precession and the conic motion the "
+                       "paper compares with — the claim fails: no constant inertia makes (3) and "
+                       f"(5) torque-free, the best leaves {tf['relative_singular']:.2f} "
+                       "(relative) where a regular precession gives "
+                       f"{small(tf_rp['relative_singular'])} (the kinematic equation (4) they "
+                       "solve identically)"))
     rp = regular_precession_check()
     recs.append(record("plaksiy.claim.regular_precession_special_case", "max angle between the "
                        "four-rotation model (φ = Ωt, ψ₀, ϑ₀, χ = ω_s t) and an independent "
@@ -643,7 +646,8 @@ COVERAGE = (
      "plaksiy.eq3.max_norm_deviation_corrected", "unit"),
     ("eq. (5), ω = 2Λ̃∘Λ̇ from (3)", "§3", "plaksiy.eq5.from_corrected_eq3",
      "from the corrected (3)"),
-    ("(3) and (5) 'the solution of the dynamic and the kinematic equations … jointly'", "§3",
+    ("(3) and (5) 'the solution of the dynamic and the kinematic equations … jointly', read as "
+     "torque-free", "§3",
      "plaksiy.claim.joint_dynamic_kinematic_solution", "torque-free residual"),
     ("eqs. (6)–(7): '(5) leads to the analytical representations for the quasi-coordinates'",
      "§4", "plaksiy.claim.analytic_quasi_coordinates", "closed form vs quadrature"),
