@@ -319,6 +319,7 @@ def plot_run(res: TutorialRun, ax=None, title: str = ""):
         for k in range(0, len(res.P), 3):
             ax.plot(*np.stack([res.P[k], Pm[k]]).T, color=c, lw=0.6)
     ax.set(xlabel="x", ylabel="y", zlabel="z", title=title)   # the tutorial's own frame
+    ax.set_box_aspect(None, zoom=0.82)  # room for the z label inside the axes (two side by side)
     return ax
 
 
