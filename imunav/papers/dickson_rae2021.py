@@ -446,7 +446,8 @@ def plot_rates(rec: BlastRecording, ax=None):
     ax.axhline(-np.degrees(rec.gyro_range), color="0.3", ls=":", lw=1)
     ax.set(xlabel="t (s)", ylabel="angular rate (°/s)",
            title=f"raw angular rates in the sensor frame (range ±{np.degrees(rec.gyro_range):.0f}°/s)")
-    ax.legend(loc="upper right", ncols=2)
+    # under the panel: inside, it covered the range line at the top (issue 38's figure check)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.2), ncols=4)
     return ax
 
 
