@@ -415,7 +415,11 @@ def plot_allan(fits: dict, fig=None):
         ax.set(xlabel="τ (s)", ylabel=f"Allan deviation ({unit})",
                title="gyro" if triad == "gyro" else "accelerometer", ylim=(lo / 2, hi * 2))
         ax.grid(True, which="both", lw=0.3, alpha=0.5)
-    fig.axes[-1].legend(fontsize=8, loc="upper right")
+    handles = {}                  # one key for both panels, under them: inside, it covered dots
+    for ax in fig.axes:
+        handles.update(zip(*reversed(ax.get_legend_handles_labels()), strict=True))
+    fig.legend(list(handles.values()), list(handles), fontsize=8, loc="outside lower center",
+               ncols=3)
     return fig
 
 
