@@ -250,6 +250,16 @@ def test_an_unlabelled_dashed_line_under_a_solid_one_is_hidden():
     assert "the dashed line (unlabelled, #000000)" in msg
 
 
+def test_a_thin_dotted_line_under_an_identical_one_is_hidden():
+    """Two documented-slope lines of coinciding series, drawn dotted at 1 pt on the same path:
+    the first one's dots are all under the second's (its antialiased fringe is not seen)."""
+    fig, ax = clean()
+    for c in (P.colour("increments/miller3"), P.colour("increments/ignagni3")):
+        ax.plot(T, np.sin(T) - 0.4, ":", color=c, lw=1)
+    msg = one(P.check_figure(fig), "hidden under")
+    assert "the dotted line (unlabelled, #875692)" in msg
+
+
 # ------------------------------------------------------------------ legends over data
 
 def test_a_legend_over_the_curves():

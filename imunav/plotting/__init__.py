@@ -303,11 +303,15 @@ def plot_convergence(rows: list[dict], ax=None, key: str = "max_att_rad"):
     drawn = plot_coinciding(ax, x, series, ids)
     okey, k = {"max_att_rad": ("order_att", 0), "max_vel": ("order_vel", 1),
                "max_pos": ("order_pos", 2)}[key]
-    dotted = False
+    dotted, drawn_slopes = False, set()
+    group_of = {i: tuple(g) for g in drawn["groups"] for i in g}
     for i, line in drawn["artists"].items():
         meas, doc = by[i][okey], by[i]["documented"][k]
         line.set_label(f"{name(i)}: {meas:.1f} ({doc})")
         if abs(meas - doc) > DOCUMENTED_APART:       # a dotted line on its own curve is hidden
+            if (group_of.get(i, i), doc) in drawn_slopes:
+                continue                            # coinciding series: one slope line is enough
+            drawn_slopes.add((group_of.get(i, i), doc))
             e = np.asarray(series[i])
             ax.plot(x, e[0] * (x / x[0]) ** (-doc), ":", color=colour(i), lw=1)
             dotted = True

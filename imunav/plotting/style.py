@@ -321,8 +321,9 @@ def units_in(label: str) -> str | None:
     return None
 
 
-def _artist_mask(artist, renderer_size, dpi, opaque):
-    """The pixels ``artist`` draws: any (``opaque`` False) or those it covers (alpha > ½)."""
+def _artist_mask(artist, renderer_size, dpi, opaque, grow=True):
+    """The pixels ``artist`` draws: any (``opaque`` False) or those it covers (alpha > ½; grown
+    by a pixel on every side unless ``grow`` is False)."""
     from matplotlib.backends.backend_agg import RendererAgg
 
     r = RendererAgg(*renderer_size, dpi)
@@ -331,6 +332,8 @@ def _artist_mask(artist, renderer_size, dpi, opaque):
     if not opaque:
         return alpha > 20
     m = alpha > 127
+    if not grow:
+        return m
     grown = m.copy()            # one pixel more on every side: the lower line's antialiased edge
     grown[1:] |= m[:-1]
     grown[:-1] |= m[1:]
@@ -406,7 +409,10 @@ def _hidden_lines(fig, ax, where) -> list[str]:
     title = ax.get_title() + " " + (ax.get_legend().get_title().get_text()
                                      if ax.get_legend() else "")
     for i in lower:
-        m = mask(i, opaque=False)
+        # a dotted or dashed line is seen by its dashes' cores: their antialiased fringe, a
+        # third of a thin dotted line's pixels, is no part of it a reader could still see
+        m = (_artist_mask(arts[i], size, fig.dpi, True, grow=False) if _dashed(arts[i])
+             else mask(i, opaque=False))
         n = int(m.sum())
         if n == 0:
             x = np.asarray(arts[i].get_xdata(orig=False), float)
