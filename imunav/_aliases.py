@@ -1,6 +1,7 @@
 """Deprecated module names, kept for one release after the restructuring of 0.2.
 
-``import imunav.assess`` (and the other former flat modules) still works: a meta-path finder
+``import imunav.assess`` (and the other former flat modules, and ``imunav.core.style``, now
+``imunav.plotting.style``) still works: a meta-path finder
 builds a module of that name holding the public names of the modules that replaced it, and
 issues a :class:`DeprecationWarning` naming them. Remove this file in 0.3.
 
@@ -20,6 +21,8 @@ ALIASES: dict[str, tuple[tuple[str, ...], dict[str, str]]] = {
     "imunav.errors": (("imunav.core.validation",), {}),
     "imunav.rotations": (("imunav.core.rotations",), {}),
     "imunav.units": (("imunav.core.units",), {}),
+    # issue 35: the figure style moved from the ground floor into the plotting room
+    "imunav.core.style": (("imunav.plotting.style",), {}),
     "imunav.simulate": (("imunav.sensors.simulate", "imunav.sensors.signals"),
                         {"TruthStates": "imunav.core.states:States", "G0": "imunav.core.constants:G0"}),
     "imunav.assess": (("imunav.analysis.metrics",), {}),

@@ -17,7 +17,7 @@ SKIP = ("image/png", "image/svg+xml", "image/jpeg", "text/latex",
         "application/vnd.jupyter.widget-view+json")
 
 #: Run in each notebook's kernel before its cells (its output is not compared).
-KERNEL_SETUP = "from imunav.core.style import install_figure_check as _f; _f(); del _f"
+KERNEL_SETUP = "from imunav.plotting.style import install_figure_check as _f; _f(); del _f"
 
 
 def _install_in_kernel(kernel) -> None:

@@ -56,7 +56,7 @@ from nbclient.util import run_sync
 
 HERE = Path(__file__).resolve().parent
 BIN = Path(sys.executable).parent
-KERNEL_SETUP = "from imunav.core.style import install_figure_check as _f; _f({mode!r}); del _f"
+KERNEL_SETUP = "from imunav.plotting.style import install_figure_check as _f; _f({mode!r}); del _f"
 _ANSI = re.compile(r"\x1b\[[0-9;]*m")
 
 

@@ -26,7 +26,8 @@ def clean():
     ax.plot(T, np.sin(T), **P.styled("increments/coning2"))
     ax.plot(T, np.cos(T), **P.styled("increments/poly8_m6"))
     ax.set(xlabel="t (s)", ylabel="attitude error (deg)", title="two algorithms")
-    ax.legend()
+    ax.set_xlim(0, 15)                       # room on the right for the legend
+    ax.legend(loc="center right")
     return fig, ax
 
 
@@ -57,7 +58,8 @@ def test_hidden_is_excused_when_the_label_says_they_coincide():
     fig, ax = clean()
     ax.plot(T, np.sin(T), **P.styled("increments/ignagni4", label="Ignagni 4-sample "
                                      "(coincides with two-sample coning)"))
-    ax.legend()
+    ax.get_legend().remove()
+    fig.legend(loc="outside lower center", ncols=2)   # a legend this long covers the curves
     assert P.check_figure(fig) == []
 
 
@@ -67,8 +69,8 @@ def test_a_wide_translucent_underlay_and_a_dashed_line_on_top_are_not_hidden():
     ax.plot(T, np.sin(T), **P.styled("estimate", lw=1.2))              # dashed, on top
     ax.plot(T, np.cos(T), **P.styled("increments/coning2"))
     ax.plot(T, np.cos(T), **P.styled("increments/poly8_m6", lw=1.2, ls="--"))
-    ax.set(xlabel="t (s)", ylabel="x (m)")
-    ax.legend()
+    ax.set(xlabel="t (s)", ylabel="x (m)", xlim=(0, 15))
+    ax.legend(loc="center right")
     assert P.check_figure(fig) == []
 
 
@@ -82,7 +84,8 @@ def test_more_than_eight_legend_entries():
     fig, ax = clean()
     for k in range(7):
         ax.plot(T, np.sin(T) + k + 2, color=P.DISTINCT[k], label=f"offset {k + 2}")
-    ax.legend()
+    ax.get_legend().remove()
+    fig.legend(loc="outside right upper")
     one(P.check_figure(fig), "legend with 9 entries")
 
 
@@ -216,6 +219,85 @@ def test_3d_axes_are_not_judged_by_2d_geometry():
     ax.set(xlim=(-1.1, 1.1), ylim=(-1.1, 1.1), zlim=(-1.1, 1.1))
     ax.legend()
     assert P.check_figure(fig) == []
+
+
+# ------------------------------------------------------------------ dotted lines out of sight
+
+def test_a_dotted_reference_on_its_own_solid_curve_is_hidden():
+    """A documented-order line drawn dotted exactly on the measured curve of the same colour
+    (notebook 06's convergence figure): a reader sees one solid line."""
+    fig, ax = clean()
+    ax.plot(T, np.sin(T), ":", color=P.colour("increments/coning2"), lw=1)
+    msg = one(P.check_figure(fig), "lies on the solid line 'two-sample coning'")
+    assert "dotted line (unlabelled" in msg
+
+
+def test_a_dotted_reference_drawn_apart_passes():
+    fig, ax = clean()
+    ax.plot(T, np.sin(T) - 0.4, ":", color=P.colour("increments/coning2"), lw=1)
+    # and a dotted line on a solid one of *another* colour shows its dots
+    ax.plot(T, np.cos(T), ":", color=P.colour("increments/coning2"), lw=1)
+    assert P.check_figure(fig) == []
+
+
+def test_an_unlabelled_dashed_line_under_a_solid_one_is_hidden():
+    fig, ax = clean()
+    ax.lines[1].remove()                     # draw the dashed one first, then the solid one
+    ax.plot(T, np.cos(T), "--", color="black", lw=1)
+    ax.plot(T, np.cos(T), **P.styled("increments/poly8_m6"))
+    ax.legend(loc="center right")
+    msg = one(P.check_figure(fig), "hidden under '8-node fit + Magnus-6'")
+    assert "the dashed line (unlabelled, #000000)" in msg
+
+
+def test_a_thin_dotted_line_under_an_identical_one_is_hidden():
+    """Two documented-slope lines of coinciding series, drawn dotted at 1 pt on the same path:
+    the first one's dots are all under the second's (its antialiased fringe is not seen)."""
+    fig, ax = clean()
+    for c in (P.colour("increments/miller3"), P.colour("increments/ignagni3")):
+        ax.plot(T, np.sin(T) - 0.4, ":", color=c, lw=1)
+    msg = one(P.check_figure(fig), "hidden under")
+    assert "the dotted line (unlabelled, #875692)" in msg
+
+
+# ------------------------------------------------------------------ legends over data
+
+def test_a_legend_over_the_curves():
+    fig, ax = clean()
+    ax.legend(loc="center")                  # across both curves
+    msg = one(P.check_figure(fig), "the legend covers data")
+    assert "of its box over lines" in msg
+
+
+def test_a_legend_beside_the_curves_passes():
+    fig, ax = clean()
+    ax.set_ylim(-1.1, 2.4)                    # room above the curves
+    ax.legend(loc="upper right", ncols=2)
+    assert P.check_figure(fig) == []
+    fig, ax = clean()
+    ax.get_legend().remove()
+    fig.legend(loc="outside lower center", ncols=2)
+    assert P.check_figure(fig) == []
+
+
+def test_a_legend_over_one_marker():
+    x = np.array([1.0, 2.0, 3.0, 4.0, 5.0])
+    fig, ax = P.figure()
+    ax.plot(x, [1.0, 1.5, 2.0, 2.5, 9.3], "o", ls="none", color=P.colour("BMI088"),
+            label="BMI088")
+    ax.set(xlabel="rate (Hz)", ylabel="error (m)", ylim=(0, 10))
+    ax.legend(loc="upper right")             # over the last point, no line drawn at all
+    msg = one(P.check_figure(fig), "the legend covers data")
+    assert "1 marker under it" in msg
+    ax.legend(loc="upper left")              # a corner without data
+    assert P.check_figure(fig) == []
+
+
+def test_a_figure_legend_placed_over_an_axes_counts_too():
+    fig, ax = clean()
+    ax.get_legend().remove()
+    fig.legend(loc="center")
+    one(P.check_figure(fig), "the figure legend covers data")
 
 
 # ------------------------------------------------------------------ coinciding series

@@ -35,6 +35,10 @@ FLOORS = [
 ]
 #: Room → floor.
 LAYERS = {room: floor for floor, rooms in enumerate(FLOORS) for room in rooms}
+#: The one upward arrow allowed (issue 35): the papers draw their figures in the book's style,
+#: which lives in the plotting room's style module — a module that imports nothing of imunav
+#: (held by ``test_the_style_module_stands_alone``), so the arrow can pull nothing else up.
+UPWARD_ALLOWED = {("imunav.papers", "imunav.plotting.style")}
 #: The only modules outside imunav.papers that may import it.
 PAPER_IMPORTERS = {"imunav.reproduce", "imunav.cli"}
 #: Modules whose function-level imports of imunav are their purpose (they import on demand).
@@ -92,13 +96,32 @@ def test_every_module_is_in_a_room():
     assert all(any(m == r or m.startswith(r + ".") for m in MODULES) for r in LAYERS)
 
 
+def _allowed_upward(module: str, target: str) -> bool:
+    return (_room(module), target) in UPWARD_ALLOWED
+
+
 @pytest.mark.parametrize("module", sorted(MODULES))
 def test_arrows_point_down(module):
-    up = sorted(t for t in GRAPH[module] if _layer(t) > _layer(module))
+    up = sorted(t for t in GRAPH[module]
+                if _layer(t) > _layer(module) and not _allowed_upward(module, t))
     assert not up, f"{module} (floor {_layer(module)}) imports higher floors: {up}"
     side = sorted(t for t in GRAPH[module]
                   if _layer(t) == _layer(module) and _room(t) != _room(module))
     assert not side, f"{module} imports another room of its own floor: {side}"
+
+
+def test_the_style_module_stands_alone():
+    """The exception above holds only while the style module imports nothing of imunav; and it
+    is exactly that one arrow — the papers may not import the plotting package or another of
+    its modules, and no other room may reach up to the style."""
+    assert GRAPH["imunav.plotting.style"] == set()
+    assert _allowed_upward("imunav.papers.plaksiy", "imunav.plotting.style")
+    assert not _allowed_upward("imunav.papers.plaksiy", "imunav.plotting")
+    assert not _allowed_upward("imunav.analysis.metrics", "imunav.plotting.style")
+    assert not _allowed_upward("imunav.core.units", "imunav.plotting.style")
+    users = sorted(m for m in MODULES if "imunav.plotting.style" in GRAPH[m]
+                   and _layer(m) < _layer("imunav.plotting.style"))
+    assert users and all(_room(m) == "imunav.papers" for m in users), users
 
 
 def _function_imports(module: str) -> list[tuple[int, str]]:
@@ -229,7 +252,8 @@ def test_old_module_names_still_import_with_a_deprecation_warning():
     import sys
 
     for old, new in (("imunav.assess", "nav_errors"), ("imunav.benchmarks", "coning"),
-                     ("imunav.quickstart", "run"), ("imunav.montecarlo", "plot_envelope")):
+                     ("imunav.quickstart", "run"), ("imunav.montecarlo", "plot_envelope"),
+                     ("imunav.core.style", "check_figure")):
         sys.modules.pop(old, None)
         with pytest.warns(DeprecationWarning, match=f"{old} is deprecated"):
             mod = importlib.import_module(old)

@@ -134,6 +134,58 @@ def test_drawing_only_code_is_folded_in_the_book(src):
                 f"a drawing-only cell is not folded (tag hide-input):\n{c.source[:160]}"
 
 
+#: A visible cell may spend at most this many lines writing prose (a ``say(...)`` or
+#: ``Markdown(...)`` statement): more is a wall of f-strings before the text in the book.
+MAX_PROSE_LINES = 4
+#: Being rewritten by their owner (issue 38's notebooks 09–10): reported, not yet held.
+PROSE_PENDING = {"09_rotating_earth", "10_aided_navigation"}
+
+
+def prose_lines(source: str) -> int:
+    """Lines of the top-level statements of a code cell that build Markdown prose: a call of
+    ``say``, ``Markdown`` or ``display(Markdown(...))``, bare or assigned."""
+    import ast
+
+    def builds_prose(node):
+        call = node.value if isinstance(node, ast.Expr | ast.Assign) else None
+        while isinstance(call, ast.Call):
+            f = call.func
+            if isinstance(f, ast.Name) and f.id in ("say", "Markdown"):
+                return True
+            if isinstance(f, ast.Name) and f.id == "display" and call.args:
+                call = call.args[0]
+                continue
+            return False
+        return False
+
+    try:
+        tree = ast.parse(source)
+    except SyntaxError:
+        return 0
+    return sum(n.end_lineno - n.lineno + 1 for n in tree.body if builds_prose(n))
+
+
+@pytest.mark.parametrize("src", SOURCES, ids=[p.stem for p in SOURCES])
+def test_prose_building_code_is_folded_in_the_book(src):
+    """A cell that writes its text with f-strings reads as its text (issue 38 item 16): five
+    lines or more of ``say``/``Markdown`` in a visible cell are folded (tag hide-input) or
+    split from the computation they follow."""
+    nb = nbformat.read(NB / f"{src.stem}.ipynb", as_version=4)
+    walls = [c.source[:120] for c in nb.cells if c.cell_type == "code"
+             and not _tags(c) & {"hide-input", "hide-cell"}
+             and prose_lines(c.source) > MAX_PROSE_LINES]
+    if walls and src.stem in PROSE_PENDING:
+        pytest.xfail(f"being rewritten (issue 38): {len(walls)} cell(s) to fold")
+    assert not walls, ("visible cells writing prose in f-strings (fold them, tag hide-input):\n"
+                       + "\n".join(walls))
+
+
+def test_prose_lines_counts_the_prose_statements():
+    src = ('x = 1\nsay(f"a {x}"\n    "b")\nMarkdown(\n    "c"\n)\n'
+           'display(Markdown("d"))\nprint("e")\n')
+    assert prose_lines(src) == 2 + 3 + 1
+
+
 # ------------------------------------------------------------------ the number audit
 #
 # Every number a markdown cell states is produced by the notebook (its stored outputs — a

@@ -33,7 +33,7 @@ def test_book_figures_are_shown_at_their_size_in_inches():
     per inch in its metadata, so 8 pt text stays 8 pt in JupyterLab and the book."""
     import struct
 
-    from imunav.core.style import BOOK_RC, _png_with_size
+    from imunav.plotting.style import BOOK_RC, _png_with_size
 
     with matplotlib.rc_context(BOOK_RC):
         fig, ax = plt.subplots(figsize=(6.0, 3.0))

@@ -22,12 +22,14 @@ REQUIRED = {  # ids issues 15 and 23 name: each must be in the stored file with 
     "marusenkova2020.claim.xy_coincidence": "differs",
     "marusenkova2020.claim.omega_asymmetry": "differs",
     "marusenkova2020.claim.dcm_amendable": "differs",
-    "marusenkova2020.claim.quaternion_beats_dcm": "reproduced",
+    # issue 38: a conclusion without a paper number and a tolerance "holds" (no longer
+    # "reproduced"); the judgement is the same
+    "marusenkova2020.claim.quaternion_beats_dcm": "holds",
     # issue 23's re-judged verdicts
     "dickson_rae2021.synthetic.final_orientation_error_deg": "not reproducible",  # its own event
     "plaksiy.table1.miller_33_57.series4": "differs",
-    "plaksiy.claim.chi_minus_psi_vibration": "reproduced",
-    "marusenkova2020.conclusion1.classic_erroneous_at_1000hz": "reproduced",
+    "plaksiy.claim.chi_minus_psi_vibration": "holds",
+    "marusenkova2020.conclusion1.classic_erroneous_at_1000hz": "holds",
     "marusenkova2020.observation3.threshold_frequency": "not reproducible",
 }
 PREFIXES = ("dickson_rae2021.multi_event.", "dickson_rae2021.large_shift.",
@@ -41,6 +43,20 @@ def test_record_rejects_what_is_not_a_verdict():
         record("x.y", "q", 1.0, 1.0, "m", "no paper value", "because")
     with pytest.raises(ValueError, match="why"):
         record("x.y", "q", None, 1.0, "m", "no paper value", " ")
+
+
+def test_reproduced_needs_a_paper_number_and_a_tolerance():
+    """Issue 38: 26 of 35 'reproduced' verdicts had no paper value or tolerance behind them."""
+    with pytest.raises(ValueError, match="needs the paper's number and a tolerance"):
+        record("x.y", "q", None, 1.0, "m", "reproduced", "the claim holds")
+    with pytest.raises(ValueError, match="needs the paper's number and a tolerance"):
+        record("x.y", "q", 1.0, 1.0, "m", "reproduced", "as printed")
+    assert record("x.y", "q", None, 1.0, "m", "holds", "the claim holds")["verdict"] == "holds"
+    recs = json.loads(STORED.read_text())
+    for r in recs:
+        if r["verdict"] == "reproduced":
+            assert r["paper"] is not None and r["tolerance"] is not None, r["id"]
+            assert judge(r["paper"], r["imunav"], r["tolerance"]) == "reproduced", r["id"]
 
 
 def test_record_enforces_the_verdict_rule():

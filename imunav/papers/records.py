@@ -16,9 +16,13 @@ The verdict rule (:data:`VERDICTS`; the same text is in the README):
     its last digit) or, where the paper leaves part of its method open (a drift measure, an
     update form), wider — but never wider than the differences the paper's own conclusion
     rests on: at most half the smallest gap between values it ranks or compares, so that any
-    values within tolerance keep the paper's order. :func:`judge` applies it.
-    A paper *conclusion* (a ranking, a sign, "not zero", "exact"): the computation reaches
-    the same conclusion.
+    values within tolerance keep the paper's order. :func:`judge` applies it. Only a record
+    with the paper's number *and* a tolerance can say ``reproduced`` (issue 38).
+``holds``
+    A paper *statement* that gives no number to compare within a tolerance — a conclusion, a
+    ranking, a sign, an identity ("exact", "not zero"), one of its caveats, an equation once
+    its typesetting slips are restored: the computation shows it holds. The ``why`` says
+    what holds, with the deciding number (a paper ratio beside it is context, not compared).
 ``consistent with bound``
     The paper's value is an upper bound, not a measurement, on a quantity imunav computes for
     the same case: imunav's value is below it. A bound is not reproduced by a number below
@@ -26,7 +30,8 @@ The verdict rule (:data:`VERDICTS`; the same text is in the README):
     "< 3°" on their event) is ``not reproducible``: a synthetic event meets or breaks it as
     its design decides.
 ``differs``
-    Outside the tolerance, or the computation reverses the conclusion.
+    Outside the tolerance, or the computation reverses the conclusion or contradicts the
+    statement.
 ``not reproducible``
     The paper lacks what would settle it (its data, a motion law, a method): whatever imunav
     computes with its own choice is shown, but it cannot confirm or refute the paper, so it is
@@ -46,7 +51,7 @@ import math
 import re
 from pathlib import Path
 
-VERDICTS = ("reproduced", "consistent with bound", "differs", "not reproducible",
+VERDICTS = ("reproduced", "holds", "consistent with bound", "differs", "not reproducible",
             "no paper value")
 KEYS = ("id", "quantity", "paper", "imunav", "unit", "tolerance", "verdict", "why", "note")
 
@@ -99,6 +104,9 @@ def record(id: str, quantity: str, paper, imunav, unit: str, verdict: str, why: 
                          f"got {id!r}")
     if verdict not in VERDICTS:
         raise ValueError(f"verdict must be one of {VERDICTS}, got {verdict!r}")
+    if verdict == "reproduced" and (paper is None or tolerance is None):
+        raise ValueError(f"{id}: 'reproduced' needs the paper's number and a tolerance; a "
+                         "statement the computation bears out without one 'holds'")
     if verdict == "no paper value" and paper is not None:
         raise ValueError(f"{id}: 'no paper value' with a paper value")
     if not why.strip():

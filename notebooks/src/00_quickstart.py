@@ -1,6 +1,24 @@
 # %% [markdown]
 # # imunav quickstart: prescribe a motion, simulate an ideal IMU, navigate back
 #
+# **Reading order.** The notebooks are numbered in the order they were written, not the order
+# to read them. Read the tools first, then the question most readers bring (is my IMU good
+# enough?), then real data and the wider world, and the paper forensics last — they take the
+# rest for granted and argue with a paper line by line:
+#
+# - notebook 00, this quickstart: a motion, an ideal IMU, navigation back, the error;
+# - notebook 05, applicability: sensor errors, the covariance analysis, a verdict for an IMU
+#   and a motion;
+# - notebook 06, the strapdown algorithms: coning, sculling, the orders of the family;
+# - notebook 03, a tutorial on integrating gyro rates into a quaternion (it needs nothing but
+#   quaternions: read it first if that is new to you);
+# - notebooks 07 and 08, real data: what recorded IMUs drift, and motion from captured poses;
+# - notebook 09, the rotating WGS-84 Earth;
+# - notebook 10, aided navigation: GNSS, zero-velocity updates, the Kalman filter and smoother;
+# - notebook 11 (coming), real recordings with a truth to navigate against;
+# - notebooks 01, 02 and 04, three papers reproduced claim by claim (Marusenkova; Plaksiy and
+#   Homozkova; Dickson and Rae).
+#
 # ## What you will learn
 #
 # - how a motion is written as analytic laws, and what an ideal IMU measures along it (the
@@ -135,7 +153,7 @@ for row in rows:
     cells = "".join(fmt_err(np.degrees(row[f"att_{r}"]), FLOOR_DEG, 13) for r in rates)
     print(f"{name(row['kind'] + '/' + row['algorithm']):34s}{cells}   {_o(row['order_att'])}")
 
-# %%
+# %% tags=["hide-input"]
 by = {f"{r['kind']}/{r['algorithm']}": r for r in rows}
 
 
@@ -194,15 +212,17 @@ fig.legend(*axs[0, 0].get_legend_handles_labels(), loc="outside lower center", n
 plt.show()
 
 # %% [markdown]
-# With a kernel, pick any rate and algorithm: the figure below is the widget's starting state,
-# and the widget under it redraws it when the slider is released.
+# With a kernel, pick any rate and algorithm: the widget under the next figure redraws it when
+# the slider is released. Its starting state, drawn below, is one the figures above leave out:
+# the position and attitude errors over time of the fourth-order Magnus integrator on rate
+# samples — the one high-order algorithm the table left above the rounding floor — at 30 Hz.
 
 # %% tags=["hide-input"]
 choices = {f"{name(f'{k}/{n}')}": f"{k}/{n}" for k, table in imunav.ALGORITHMS.items()
            for n in table}
 
 
-def explore(rate=30.0, algorithm="increments/coning2"):
+def explore(rate=30.0, algorithm="rates/magnus4"):
     kind, alg = algorithm.split("/")
     fig, axs = plotting.figure(1, 2, height=2.8)
     e = rt.round_trip(motion, rate=rate, output=kind, algorithm=alg).errors
@@ -221,7 +241,7 @@ explore()
 _ = interact(explore,
              rate=FloatLogSlider(value=30, base=10, min=1, max=3, step=0.05,
                                  continuous_update=False, description="rate (Hz)"),
-             algorithm=Dropdown(options=choices, value="increments/coning2",
+             algorithm=Dropdown(options=choices, value="rates/magnus4",
                                 description="algorithm"))
 
 # %% [markdown]

@@ -282,7 +282,7 @@ for fig in ("fig1a", "fig1b", "fig2"):
 # **Observations 1 and 2** ("the trajectory itself influences the discrepancies"; "some
 # trajectories are almost irreproducible, at least at reasonable sample frequencies"):
 
-# %%
+# %% tags=["hide-input"]
 obs = M.observations()
 say(f"With the same rotation law at 100 Hz the classic DCM pair is off by {obs['fig1a']:.2f} m "
     f"on Fig. 1a and {obs['fig2']:.1f} m on Fig. 2 ({obs['fig2_over_fig1a']:.1f}×; "
@@ -631,10 +631,11 @@ _ = interact(explore, fig=Dropdown(options=[(M.FIG_NAMES[f], f) for f in M.TRAJE
 # One row per record of the ledger `figures/reproduction.json` (written by
 # `imunav reproduce`), rendered from it — never typed by hand: the paper's value, imunav's, the
 # record's id and its verdict. The verdict rule is written once, in `imunav.papers.records`:
-# *reproduced* within a stated tolerance (never wider than the differences the paper's own
-# conclusion rests on), *consistent with bound* where the paper gives a bound, *differs*, *not
-# reproducible* where the paper lacks what would settle it, *no paper value* where it gives no
-# number.
+# *reproduced* where a paper number is met within a stated tolerance (never wider than the
+# differences the paper's own conclusion rests on), *holds* where a statement without such a
+# number — a conclusion, an identity, a ranking — is borne out by the computation, *consistent
+# with bound* where the paper gives a bound, *differs*, *not reproducible* where the paper
+# lacks what would settle it, *no paper value* where it gives no number.
 
 # %% tags=["hide-input"]
 display(Markdown(R.coverage_table(M.COVERAGE, LEDGER)))

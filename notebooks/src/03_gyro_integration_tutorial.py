@@ -140,7 +140,7 @@ T.plot_run(res_exact, fig.add_subplot(1, 2, 2, projection="3d"), "exact rotation
 fig.legend(*ax3.get_legend_handles_labels(), loc="outside lower center", ncols=4, markerscale=3)
 plt.show()
 
-# %%
+# %% tags=["hide-input"]
 P_gap = np.linalg.norm(res.P - res_exact.P, axis=1)
 say(f"The key: the black dots are the point P = (1, 2, 3), the red, green and blue dots three "
     f"markers one unit from it along its x, y and z axes, joined to it every third step. The two "
@@ -202,7 +202,7 @@ e_s = os_["sampled_first_order"]["final_error_rad"]
 local = np.log(e_s[-2] / e_s[-1]) / np.log(os_["dts"][-2] / os_["dts"][-1])
 print(f"sampled first-order, order between the two smallest steps: {local:.2f}")
 
-# %%
+# %% tags=["hide-input"]
 say(f"With the rate constant over each step the first-order update converges at order "
     f"{os_['constant_first_order']['order']:.2f}; fed the samples of a varying rate, at order "
     f"{os_['sampled_first_order']['order']:.2f} over these steps ({local:.2f} between the two "
@@ -319,7 +319,7 @@ axs[1].set(xlabel="t (s)", ylabel="median drift (°)", title="still body, simula
 axs[1].legend(loc="upper left")
 plt.show()
 
-# %%
+# %% tags=["hide-input"]
 say(f"At rest the real gyro turns by {still['final_deg']:.3f}° in {still['duration_s']:.2f} s, "
     f"following its mean rate × t: a bias of {still['bias_deg_s']:.3f}°/s, which integrated alone "
     f"would reach {60 * still['bias_deg_s']:.1f}° in a minute. Meanwhile the fused orientation "
@@ -338,28 +338,42 @@ say(f"At rest the real gyro turns by {still['final_deg']:.3f}° in {still['durat
 # terms). It is the reason every real system aids the gyro with something absolute — gravity,
 # a magnetometer, GNSS.
 #
-# ## 5. Explore: the step
+# ## 5. Explore: the rate
 # The widget below (in a live kernel) sets the step, the two rates and the update. A reader of
-# the book cannot move it, so here is its first parameter swept: the first-order error over the
-# example's 49.5 s for four steps.
+# the book cannot move it. §2 swept the step already (its figure); here is the rate about X
+# swept instead, at the tutorial's dt = 0.5 s and with the rate about Y as written. Each
+# normalised step about a fixed axis falls short by $\lvert\omega\rvert\Delta t -
+# 2\arctan(\lvert\omega\rvert\Delta t/2) \approx (\lvert\omega\rvert\Delta t)^3/12$ (§2), so
+# doubling the rate should multiply the error at the end of the X phase by about 2³:
 
 # %%
-STEPS = (0.5, 0.25, 0.125, 0.0625)
-sweep = {dt: (T.run(dt, duration=49.5).t, T.angle_error(dt, duration=49.5)) for dt in STEPS}
-for dt, (_, e) in sweep.items():
-    print(f"dt = {dt:6.4f} s: final error {np.degrees(e[-1]):.4f}°")
+RATES_X = (np.pi / 16, np.pi / 8, np.pi / 4, np.pi / 2)
+sweep = {w: (T.run(0.5, rate_x=w, duration=49.5).t, T.angle_error(0.5, duration=49.5, rate_x=w))
+         for w in RATES_X}
+x_end = sch["x_s"]                                     # the switch from X to Y
+at_switch = {w: np.degrees(e[np.searchsorted(t, x_end)]) for w, (t, e) in sweep.items()}
+for w, a in at_switch.items():
+    grow = "" if w == RATES_X[0] else f", × {a / at_switch[w / 2]:.2f} the half rate's"
+    print(f"ω about X = π/{np.pi / w:.0f} rad/s: error at t = {x_end:g} s {a:.4f}°{grow}")
 
 # %% tags=["hide-input"]
 fig, axs = figure(2, 2, height=4.4, sharex=True)
-for ax, (dt, (t, e)) in zip(axs.flat, sweep.items(), strict=True):
+for ax, (w, (t, e)) in zip(axs.flat, sweep.items(), strict=True):
     ax.plot(t, np.degrees(e), color=style("increments/first_order")["color"])
-    ax.set_title(f"dt = {dt:g} s")
+    ax.set_title(f"ω about X = π/{np.pi / w:.0f} rad/s")
 for ax in axs[-1]:
     ax.set_xlabel("t (s)")
 for ax in axs[:, 0]:
     ax.set_ylabel("first-order error (°)")
-fig.suptitle("the tutorial's example: first-order + normalise vs the exact rotation")
+fig.suptitle("the tutorial's example at dt = 0.5 s: first-order + normalise vs the exact "
+             "rotation")
 plt.show()
+
+# %% [markdown]
+# Close to 2³ while a step turns little; less at the fastest rate, where a step turns so far
+# that the cubic term alone overstates the deficit. At the slowest rate the Y phase, turning
+# as fast (π/16 rad/s as written), adds visibly to the error; beside the faster X phases it is
+# negligible.
 
 
 # %%

@@ -44,9 +44,12 @@
 #   costs "< 3°" of orientation.
 # - **What holds.** The equations, once the minus signs and halves the OCR lost are restored
 #   (§1, §2). On a synthetic event that meets the paper's assumptions the chain works (§4). The
-#   paper's own caveats hold when computed: the attitude from an uncalibrated accelerometer,
-#   several events in rapid succession and large shifts of high-range modules all defeat the
-#   correction (§4, §5); the early data stay accurate (§5).
+#   paper's own caveats hold when computed (§4, §5): an initial attitude levelled from an
+#   uncalibrated accelerometer ends degrees off, and several events in rapid succession leave
+#   metres; a large shift that builds up during the event is *harder* to correct, not
+#   defeated — the correction takes a 3 g shift from 50.9 m to 1.43 m, and leaves more the
+#   larger the shift (0.20 m at 0.1 g, where a step at the onset leaves 0.19 m). The early data
+#   stay accurate (§5).
 # - **What cannot be settled.** The paper's data are not public: its "< 3°", its figures and
 #   its remark on the gyros can be illustrated on a synthetic event but not tested. Its test
 #   object was in free fall when the blast arrived, while the zeroing it describes assumes
@@ -242,12 +245,14 @@ res_acc = D.process(rec, initial_ypr=None)
 a_rest = D.resting_accel_over_g(rec)
 print(f"|a| at rest: {a_rest:.4f} g; final orientation error {res_acc.final_orientation_error_deg:.2f}°, "
       f"residual velocity after correction {res_acc.residual_velocity_corrected:.2f} m/s")
+
+# %% tags=["hide-input"]
 say(f"It does: |a| at rest is {a_rest:.4f} g, so the necessary condition |a| = g **fails**, by "
     f"{100 * abs(1 - a_rest):.1f} % — exactly the warning the paper's check is there to give. "
     f"Taken anyway (imunav's levelling accepts up to 5 %), the offset tilts the initial attitude "
     f"by about its horizontal part over g, and the chain ends "
     f"{res_acc.final_orientation_error_deg:.2f}° off, with a residual velocity of "
-    f"{res_acc.residual_velocity_corrected:.2f} m/s: the paper's caveat, reproduced.")
+    f"{res_acc.residual_velocity_corrected:.2f} m/s: the paper's caveat holds.")
 verdict("dickson_rae2021.synthetic.initial_attitude_from_accel")
 
 # %% tags=["hide-input"]
@@ -303,9 +308,9 @@ for row in ls:
           f"corrected {row['onset_step_position_error_m']:.2f} m (step at the onset) / "
           f"{row['step_position_error_m']:.2f} m (step at {t_step:.3f} s) / "
           f"{row['ramp_position_error_m']:.2f} m (over 20 ms)")
-verdict(*(f"dickson_rae2021.large_shift.position_error_{t}" for t in ("0p1g", "0p35g", "1g", "3g")))
+verdict("dickson_rae2021.large_shift.challenging")
 
-# %%
+# %% tags=["hide-input"]
 gap = t_step - ls[0]["onset_s"]
 slope = ((ls[-1]["step_position_error_m"] - ls[0]["step_position_error_m"])
          / (ls[-1]["shift_g"] - ls[0]["shift_g"]))
@@ -330,7 +335,7 @@ say(f"A step at the detected onset leaves {ls[0]['onset_step_position_error_m']:
 for row in D.multi_event():
     print(f"second shift {row['second_shift_g']:4.2f} g: final position error "
           f"{row['position_error_m']:.2f} m, residual velocity {row['residual_velocity']:.2f} m/s")
-verdict(*(f"dickson_rae2021.multi_event.position_error_second_shift_{t}" for t in ("0p1g", "0p3g", "1g")),
+verdict("dickson_rae2021.multi_event.inadequate",
         "dickson_rae2021.multi_event.residual_velocity_second_shift_1g")
 
 # %% [markdown]
@@ -458,8 +463,9 @@ _ = interact(scrub, t=FloatSlider(value=0.5, min=0.0, max=float(rec.t[-1]), step
 # `imunav reproduce`), rendered from it — never typed by hand: the paper's value, imunav's, the
 # record's id and its verdict. The verdict rule is written once, in `imunav.papers.records`.
 # Where the paper's value is a bound about its own unpublished event (its "< 3°"), a synthetic
-# event can illustrate it but not test it: *not reproducible*. The paper's own caveats, once
-# computed, are *reproduced*.
+# event can illustrate it but not test it: *not reproducible*. The paper's own caveats give no
+# number to reproduce within a tolerance: computed, each *holds* — and the sizes that decide it
+# are imunav's own numbers (*no paper value*), one row each.
 
 # %% tags=["hide-input"]
 display(Markdown(R.coverage_table(D.COVERAGE, LEDGER)))
@@ -469,7 +475,9 @@ display(Markdown(R.coverage_table(D.COVERAGE, LEDGER)))
 #
 # - For a short event the whole chain is simple — rotate the rates, update the quaternion,
 #   rotate the specific forces, add gravity, integrate twice — and the orientation is the
-#   robust part: only the clipped rates cost degrees.
+#   robust part once it starts right: here the clipped rates cost 0.45°, while an initial
+#   attitude levelled from the uncalibrated accelerometer costs 3.03° — the start matters
+#   more than the clipping.
 # - Position lives or dies by the accelerometer's baseline: an offset left in grows as t², so
 #   the zeroing's assumption (at rest, one g up) and the post-event correction's (one shift,
 #   at the onset) decide the error. The residual velocity at rest is the check that tells.

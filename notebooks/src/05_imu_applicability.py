@@ -131,8 +131,9 @@ plt.show()
 # $$ P_{k+1} = \Phi_k\,P_k\,\Phi_k^{\mathsf T} + Q_k ,
 #    \qquad Q_k = \int_0^h \Phi(s)\,G\,S\,G^{\mathsf T}\,\Phi(s)^{\mathsf T}\,ds , $$
 #
-# computed exactly here (the navigation part of the dynamics is nilpotent, so $\Phi_k$ has a
-# closed form). Independent error terms add, $P = \sum_{\text{terms}} P^{(j)}$, so each term's
+# computed here in closed form for each step with the motion held at the step's midpoint —
+# exact for that frozen step (the navigation part of the dynamics is nilpotent, so $\Phi_k$
+# has a closed form), and the steps are short beside the time the motion takes to change. Independent error terms add, $P = \sum_{\text{terms}} P^{(j)}$, so each term's
 # share — the error budget — is exact too. The 95th percentile of the position error *norm*
 # follows from the 3×3 position block of $P$ (the norm of a correlated Gaussian vector, not a
 # multiple of σ). Below: the covariance envelope over the Monte Carlo runs of §2, and the time
@@ -202,7 +203,7 @@ ax.set_yscale("log")
 ax.legend(loc="lower right", ncols=2)
 plt.show()
 
-# %%
+# %% tags=["hide-input"]
 bno, tac = ImuModel.load("BNO055"), ImuModel.load("tactical")
 dom = {p: next(iter(assess_covariance(car, ImuModel.load(p), 100.0,
                                       tolerance=10.0)["error_budget"])) for p in ("BNO055", "tactical")}
@@ -254,7 +255,7 @@ for m_name, _, imu, _ in ALIGN_CASES:
         print(f"{m_name + ', ' + name(imu.name):28s} {al:6s} {rr['final_p95_position_m']:13.3g} m"
               f"   {top}")
 
-# %%
+# %% tags=["hide-input"]
 wt, wl = aligned["walk", "truth"], aligned["walk", "level"]
 vt, vl = aligned["vehicle", "truth"], aligned["vehicle", "level"]
 heading = float(np.ptp(car.euler(np.linspace(0, car.duration, 601))[:, 0]))
@@ -282,7 +283,7 @@ Markdown(
 d = design(walk, adis, 100.0, tolerance=2.0)
 print(format_design(d))
 
-# %%
+# %% tags=["hide-input"]
 has_bias = {p: bool(ImuModel.load(p).gyro.bias or ImuModel.load(p).accel.bias)
             for p in ("tactical", "ADIS16470")}
 adis_b = ImuModel(adis.gyro.replace(bias=np.radians(20 / 3600)),
@@ -357,7 +358,7 @@ def live_verdict(motion_name, rate, tolerance, values):
 
 START = [s[3] for s in SLIDERS]
 
-# %%
+# %% tags=["hide-input"]
 SWEEP_TOL = 20.0                       # m: the 2 m of §2 fails whatever the gyro bias
 no_gyro_bias = [0.0 if s[0] == "gyro.bias" else v for s, v in zip(SLIDERS, START, strict=True)]
 r_0, _ = live_verdict("walk", 100.0, SWEEP_TOL, no_gyro_bias)
@@ -473,7 +474,7 @@ print(format_verdict(assess_covariance(walk, fitted, 100.0, tolerance=2.0)).spli
 # The same self-check on four presets (the stochastic terms of each, one hour simulated at
 # 10 Hz, x axis):
 
-# %%
+# %% tags=["hide-input"]
 no_bi = [p for p in ("BNO055", "BMI088", "ADIS16470", "tactical")
          if not ImuModel.load(p).gyro.bias_instability]
 no_bi_acc = [p for p in ("BNO055", "BMI088", "ADIS16470", "tactical")

@@ -30,7 +30,7 @@ from ipywidgets import FloatSlider, interact
 
 from imunav import navigate
 from imunav.analysis import recordings as R
-from imunav.core.rotations import quat_to_dcm
+from imunav.core.rotations import quat_to_dcm, quat_to_euler
 from imunav.earth import OMEGA_E as OMEGA_EARTH
 from imunav.earth import normal_gravity
 from imunav.plotting import figure, name, styled, use_book_style
@@ -50,12 +50,14 @@ for rec in (x3, x1):
           f"max |ω| {np.degrees(np.abs(s.gyro)).max():.0f}°/s in one axis, "
           f"{np.degrees(np.linalg.norm(s.gyro, axis=1)).max():.0f}°/s in norm, "
           f"{np.degrees(np.linalg.norm(s.gyro, axis=1)).max() / s.rate:.0f}° per sample at most")
+    yaw, pitch, roll = np.degrees(quat_to_euler(level_attitude(s.accel[:20], s.g, tol=0.1)))
+    print(f"{'':9s}levelled from its first 20 samples: roll {roll:.1f}°, pitch {pitch:.1f}°")
 
 # %% [markdown]
 # Both devices read about +g on their z axis when level: their body z axis points **up**
 # (imunav's body frame has z down). Nothing needs converting for navigation — the initial
-# attitude from the resting accelerometer simply comes out with roll ≈ 180° — but remember it
-# when reading raw plots.
+# attitude levelled from the resting accelerometer simply comes out upside down, with a roll
+# of about 180° (printed above) — but remember it when reading raw plots.
 #
 # ## 1. What do the device quaternions mean? (checked, not assumed)
 # A stored quaternion $q(t)$ can be read four ways: elements in the order $[w, x, y, z]$ or
@@ -95,7 +97,7 @@ for rec, start in ((x3, 1.0), (x1, 0.0)):
         gvd[rec.meta["device"], alg] = r = R.gyro_vs_device(rec, algorithm=alg, start=start)
         print(f"{rec.meta['device']:7s} {name('rates/' + alg):32s}", {w: round(v, 2) for w, v in r.items()})
 
-# %%
+# %% tags=["hide-input"]
 d3, d1 = x3.meta["device"], x1.meta["device"]
 w = max(gvd[d3, "first_order"])
 Markdown(
@@ -174,7 +176,7 @@ for k, ax in enumerate("NED"):
 collinear = (tn ** 5).sum() / np.sqrt((tn ** 4).sum() * (tn ** 6).sum())
 print(f"t² and t³ over these {tn[-1]:.2f} s: correlation {collinear:.3f}")
 
-# %%
+# %% tags=["hide-input"]
 Markdown(
     f"The vertical drift is the quadratic: $c_2$ = {coef[2, 0]:.2e} m/s², an offset "
     f"$b_{{a,D}}$ = {2 * coef[2, 0] * 1e3:.0f} mm/s², with no cubic. Northward the cubic is the "
@@ -214,7 +216,7 @@ for ax, sp in zip(axs.flat, splits, strict=True):
 axs[0, 0].legend(loc="upper left")
 plt.show()
 
-# %%
+# %% tags=["hide-input"]
 best = min(splits, key=lambda sp: held[sp]["out_of_sample"]["final"])
 Markdown(
     "On data it has not seen, the calibration removes most of the drift at every split: "
@@ -290,9 +292,6 @@ print(f"|f| at rest {f_rest:.4f} m/s² against the assumed g = {s3.g:.5f}: "
       f"{(f_rest - s3.g) * 1e3:+.0f} mm/s²; normal gravity on the Earth runs from "
       f"{g_range[0]:.4f} (equator) to {g_range[1]:.4f} m/s² (poles)")
 assert abs(ba_fit / np.linalg.norm(ba_est) - 1) < 0.1     # the same offset, seen two ways
-
-# %% [markdown]
-# %%
 Markdown(
     f"The offset is {abs(ba_fit) * 1e3:.0f} mm/s² along the body z axis — but it is simply "
     f"$|\\boldsymbol f|$ at rest ({f_rest:.4f} m/s²) minus the standard gravity "

@@ -120,7 +120,7 @@ e8w = np.abs(pm8.angular_rate(i8) - f8.angular_rate(i8)).max()
 e8f = np.abs(pm8.specific_force(i8) - f8.specific_force(i8)).max()
 print(f"figure-eight, 100 Hz poses: max |ω error| {e8w:.1e} rad/s, max |f error| {e8f:.1e} m/s²")
 
-# %%
+# %% tags=["hide-input"]
 o_w, o_f = fit_order(h[2:], rows[2:, 1]), fit_order(h[2:], rows[2:, 2])
 Markdown(
     f"The attitude spline is cubic in rotation vectors, so its rate converges at order 3; the "
@@ -196,11 +196,12 @@ axs[0].text(0.99, 0.03, f"grey: up to ±{peak:.0f} m/s², off this scale",
             transform=axs[0].transAxes, ha="right", va="bottom", fontsize=8,
             bbox={"fc": "white", "ec": "0.7"})
 axs[0].set_title("1 mm / 1 mrad capture noise at 100 Hz: the signals a simulated IMU would read")
-axs[0].legend(loc="upper left", fontsize=8)
+# the key under both panels: inside, the noisy curve runs under it whatever its place
+fig.legend(*axs[0].get_legend_handles_labels(), loc="outside lower center", ncols=2, fontsize=8)
 axs[1].set(xlabel="t (s)")
 plt.show()
 
-# %%
+# %% tags=["hide-input"]
 best_s = min((s for s in table if s), key=lambda s: table[s][0])
 Markdown(
     f"Without smoothing the noise reaches the simulated accelerometer as {table[None][0]:.0f} m/s² "
@@ -240,7 +241,7 @@ peak_f = {m.name: float(np.linalg.norm(m.specific_force(interior), axis=1).max()
 print("peak |f_b| the IMU is asked to measure:",
       ", ".join(f"{k} {v:.3g} m/s²" for k, v in peak_f.items()))
 
-# %%
+# %% tags=["hide-input"]
 Markdown(
     f"Unsmoothed, the simulated IMU is asked to measure the noise as motion: specific forces up "
     f"to {peak_f[raw.name]:.0f} m/s² where the walk has {peak_f[walk.name]:.1f} m/s² "
@@ -302,7 +303,7 @@ ax2.set(xlabel="t (s)", ylabel="angle (°)")
 ax2.legend(loc="upper right", fontsize=8)
 plt.show()
 
-# %%
+# %% tags=["hide-input"]
 Markdown(
     f"The path swings wide of its waypoints: north it reaches {pos[:, 0].max():.0f} m where no "
     f"waypoint is beyond {np.max(np.array(wp)[:, 0]):.0f} m. A quintic through five points "
@@ -350,8 +351,10 @@ for ax in axs:
     ax.set_xscale("symlog", linthresh=0.3, linscale=0.5)
     ax.set_yscale("log")
     ax.set_xticks(x, [f"{v:g}" for v in x])
-axs[0].set(xlabel="smoothing σ (mm; 0 = interpolating)", ylabel=r"rms $f_b$ error (m/s²)")
-axs[1].set(xlabel="smoothing σ (mm; 0 = interpolating)", ylabel=r"rms $\omega_b$ error (rad/s)")
+for ax in axs:                                   # one σ smooths both: mm of position, mrad of attitude
+    ax.set_xlabel("smoothing σ, 0 = interpolating\n(mm of position and mrad of attitude)")
+axs[0].set(ylabel=r"rms $f_b$ error (m/s²)")
+axs[1].set(ylabel=r"rms $\omega_b$ error (rad/s)")
 axs[0].legend(loc="upper right", fontsize=8)       # the errors are large at the left
 plt.show()
 
@@ -392,8 +395,10 @@ _ = interact(explore, pose_rate=FloatSlider(value=100, min=20, max=400, step=10,
 # - Differentiating twice multiplies capture noise by about $(\pi r)^2$: never feed raw
 #   capture data to an IMU simulation; smooth it with σ set to the system's noise — too small
 #   a σ lets the noise through almost unchanged, too large only rounds off some motion.
-# - Once smoothed, a recording is assessed like any motion, and gives the verdict of the
-#   motion it recorded.
+# - A recording is assessed like any motion. On this walk it gives the verdict of the motion
+#   it recorded smoothed or not (§3: the ADIS16470's errors here hardly feel the jitter);
+#   what smoothing restores is the signals — unsmoothed, the simulated IMU is asked to measure
+#   the capture noise as specific forces of tens of g, which a real one would clip.
 #
 # ## Exercises
 #

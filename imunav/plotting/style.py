@@ -1,6 +1,8 @@
-"""The one figure style of imunav, and the figure check (re-exported by :mod:`imunav.plotting`,
-where the plot functions are; here, in the bottom layer, so that every module that draws — the
-papers' too — uses the same names and colours).
+"""The one figure style of imunav, and the figure check: the plotting room's style module
+(re-exported by :mod:`imunav.plotting`, where the plot functions are). It imports nothing of
+imunav, so the papers — one floor below the plotting room — may import it (the one exception to
+the floors, ``tests/test_layering.py``): every module that draws uses the same names and colours.
+``imunav.core.style``, its former home, still imports with a ``DeprecationWarning`` until 0.3.
 
 **Style.** Call :func:`use_book_style` once (the first cell of every notebook does): figures are
 stored at 150 dpi, their text at 8–10 pt, and they are displayed at their size in inches (96 CSS
@@ -15,8 +17,11 @@ Internal identifiers (``poly8_m6``, ``gyro.noise_density``, ``quat_amended``) ne
 a label or a legend: :func:`name` gives the words.
 
 **Figure check.** :func:`check_figure` lists what keeps a reader from trusting a figure at a glance:
-a labelled line hidden under another (at least 80 % of its drawn pixels under later-drawn ones,
-unless a label or the title says the lines coincide), a legend with more than
+a labelled line, or a dotted or dashed one, hidden under another (at least 80 % of its drawn
+pixels under later-drawn ones), a dotted or dashed line lying on a solid line of its own colour
+(both unless a label or the title says the lines coincide), a legend over the data of its axes
+(more than :data:`LEGEND_OVER_LINES` of its box over drawn lines, or any marker under it), a
+legend with more than
 :data:`MAX_LEGEND` entries, two units on one axis, an internal id in a title, label, legend or
 tick label, text below :data:`MIN_FONT_PT`, a figure wider than :data:`MAX_WIDTH_IN` or stored
 below :data:`MIN_DPI`, a panel more than 10:1, a fixed axis range the data fill less than a third
@@ -316,8 +321,9 @@ def units_in(label: str) -> str | None:
     return None
 
 
-def _artist_mask(artist, renderer_size, dpi, opaque):
-    """The pixels ``artist`` draws: any (``opaque`` False) or those it covers (alpha > ½)."""
+def _artist_mask(artist, renderer_size, dpi, opaque, grow=True):
+    """The pixels ``artist`` draws: any (``opaque`` False) or those it covers (alpha > ½; grown
+    by a pixel on every side unless ``grow`` is False)."""
     from matplotlib.backends.backend_agg import RendererAgg
 
     r = RendererAgg(*renderer_size, dpi)
@@ -326,6 +332,8 @@ def _artist_mask(artist, renderer_size, dpi, opaque):
     if not opaque:
         return alpha > 20
     m = alpha > 127
+    if not grow:
+        return m
     grown = m.copy()            # one pixel more on every side: the lower line's antialiased edge
     grown[1:] |= m[:-1]
     grown[:-1] |= m[1:]
@@ -350,12 +358,43 @@ def _label(a) -> str | None:
     return None if not lab or lab.startswith("_") else lab
 
 
+def _dashed(a) -> bool:
+    """A line drawn dotted or dashed (not solid, not markers only)."""
+    from matplotlib.lines import Line2D
+
+    return isinstance(a, Line2D) and a.get_linestyle() in ("--", ":", "-.")
+
+
+def _solid(a) -> bool:
+    from matplotlib.lines import Line2D
+
+    return isinstance(a, Line2D) and a.get_linestyle() == "-"
+
+
+def _same_colour(a, b) -> bool:
+    from matplotlib.colors import to_rgb
+
+    return bool(np.allclose(to_rgb(a.get_color()), to_rgb(b.get_color()), atol=0.05))
+
+
+def _describe(a) -> str:
+    from matplotlib.colors import to_hex
+
+    kind = {":": "dotted", "--": "dashed", "-.": "dash-dotted"}.get(a.get_linestyle(), "")
+    return f"the {kind} line".replace("the  line", "the line") + (
+        f" '{_label(a)}'" if _label(a) else f" (unlabelled, {to_hex(a.get_color())})")
+
+
 def _hidden_lines(fig, ax, where) -> list[str]:
+    """Lines a reader cannot see: a labelled line, or a dotted or dashed one (labelled or not),
+    with at least :data:`_HIDDEN_FRACTION` of its pixels under artists drawn after it; and a
+    dotted or dashed line lying on a solid line of its own colour drawn before it (a dotted
+    reference exactly on its curve)."""
     from matplotlib.lines import Line2D
 
     arts = _drawn_in_order(ax)
-    lower = [i for i, a in enumerate(arts) if isinstance(a, Line2D) and _label(a)
-             and len(a.get_xdata(orig=False)) > 0]
+    lower = [i for i, a in enumerate(arts) if isinstance(a, Line2D)
+             and (_label(a) or _dashed(a)) and len(a.get_xdata(orig=False)) > 0]
     if not lower:
         return []
     size = (int(fig.bbox.width), int(fig.bbox.height))
@@ -370,33 +409,134 @@ def _hidden_lines(fig, ax, where) -> list[str]:
     title = ax.get_title() + " " + (ax.get_legend().get_title().get_text()
                                      if ax.get_legend() else "")
     for i in lower:
-        m = mask(i, opaque=False)
+        # a dotted or dashed line is seen by its dashes' cores: their antialiased fringe, a
+        # third of a thin dotted line's pixels, is no part of it a reader could still see
+        m = (_artist_mask(arts[i], size, fig.dpi, True, grow=False) if _dashed(arts[i])
+             else mask(i, opaque=False))
         n = int(m.sum())
         if n == 0:
             x = np.asarray(arts[i].get_xdata(orig=False), float)
-            if np.isfinite(x).any():
+            if np.isfinite(x).any() and _label(arts[i]):
                 out.append(f"{where}: the line '{_label(arts[i])}' draws nothing inside the axes")
             continue
-        above = range(i + 1, len(arts))
-        if not above:
-            continue
+        lab = _label(arts[i]) or ""
         cover = np.zeros_like(m)
         best, best_n = None, 0
-        for j in above:
+        for j in range(i + 1, len(arts)):
             k = int((m & mask(j)).sum())
             if k:
                 cover |= mask(j)
                 if k > best_n:
                     best, best_n = j, k
         frac = (m & cover).sum() / n
-        if frac < _HIDDEN_FRACTION:
+        if frac >= _HIDDEN_FRACTION:
+            up = _label(arts[best]) or "an unlabelled artist"
+            if not _SAYS_COINCIDE.search(lab + " " + up + " " + title):
+                what = f"the line '{lab}'" if lab else _describe(arts[i])
+                out.append(f"{where}: {what} is hidden under '{up}' ({100 * frac:.0f} % of "
+                           "its pixels covered): draw it apart, merge the two, or say they "
+                           "coincide")
             continue
-        lab = _label(arts[i])
-        up = _label(arts[best]) or "an unlabelled artist"
-        if _SAYS_COINCIDE.search(lab + " " + up + " " + title):
+        if not _dashed(arts[i]):
             continue
-        out.append(f"{where}: the line '{lab}' is hidden under '{up}' ({100 * frac:.0f} % of "
-                   "its pixels covered): draw it apart, merge the two, or say they coincide")
+        for j in range(i):         # a dotted line on a solid one of its colour, drawn before it
+            if not (_solid(arts[j]) and _same_colour(arts[i], arts[j])):
+                continue
+            frac = (m & mask(j)).sum() / n
+            if frac < _HIDDEN_FRACTION:
+                continue
+            under = _label(arts[j]) or "a solid line"
+            if not _SAYS_COINCIDE.search(lab + " " + under + " " + title):
+                out.append(f"{where}: {_describe(arts[i])} lies on the solid line '{under}' of "
+                           f"its own colour ({100 * frac:.0f} % of its pixels): a reader sees "
+                           "one line — draw it apart or say they coincide")
+            break
+    return out
+
+
+#: A legend may lie over at most this fraction of its box's area of drawn lines, and over no
+#: marker. A line of the book's width (1.5 pt, about 4 px at 150 dpi) crossing a legend covers
+#: 3–5 % of its box; 0.25 % is such a line running under it for a few % of its width — more
+#: than a corner it grazes (0.16 %, notebook 04), as much as the lines under the legend issue 38
+#: found in notebook 01 (0.35 %).
+LEGEND_OVER_LINES = 0.0025
+
+
+def _legend_boxes(fig, renderer):
+    """(legend, its box in display pixels, the axes it may cover) for every visible legend."""
+    out = []
+    for ax in fig.axes:
+        leg = ax.get_legend()
+        if leg is not None and leg.get_visible() and ax.get_visible():
+            out.append((leg, leg.get_window_extent(renderer), [ax]))
+    for leg in fig.legends:
+        if leg.get_visible():
+            out.append((leg, leg.get_window_extent(renderer), list(fig.axes)))
+    return out
+
+
+def _data_artists(ax):
+    """What an axes draws as data: its lines and its line and point collections (not filled
+    areas, images or grid lines)."""
+    from matplotlib.collections import LineCollection, PathCollection
+    from matplotlib.lines import Line2D
+
+    return [a for a in ax.get_children() if a.get_visible()
+            and (isinstance(a, Line2D) and len(a.get_xdata(orig=False)) > 0
+                 or isinstance(a, (LineCollection, PathCollection)))]
+
+
+def _points_in(box, xy, pad: float = 0.0) -> int:
+    """How many points ``xy`` (display pixels) lie in ``box`` grown by ``pad`` pixels."""
+    xy = np.asarray(xy, float).reshape(-1, 2)
+    xy = xy[np.isfinite(xy).all(axis=1)]
+    return int(((xy[:, 0] >= box.x0 - pad) & (xy[:, 0] <= box.x1 + pad)
+                & (xy[:, 1] >= box.y0 - pad) & (xy[:, 1] <= box.y1 + pad)).sum())
+
+
+def _legends_over_data(fig, renderer, tag) -> list[str]:
+    """Legends whose box covers the data of their axes: more than :data:`LEGEND_OVER_LINES` of
+    the box over drawn lines, or any marker (point) under it."""
+    from matplotlib.backends.backend_agg import RendererAgg
+    from matplotlib.collections import PathCollection
+    from matplotlib.lines import Line2D
+
+    out = []
+    W, H = int(fig.bbox.width), int(fig.bbox.height)
+    for leg, box, axes in _legend_boxes(fig, renderer):
+        if box.width <= 0 or box.height <= 0:
+            continue
+        area = box.width * box.height
+        for n, ax in ((fig.axes.index(a), a) for a in axes):
+            if getattr(ax, "name", "") == "3d" or not ax.bbox.overlaps(box):
+                continue
+            arts = _data_artists(ax)
+            if not arts:
+                continue
+            markers = 0
+            r = RendererAgg(W, H, fig.dpi)
+            for a in arts:
+                a.draw(r)
+                if isinstance(a, Line2D) and a.get_marker() not in (None, "None", "", " "):
+                    xy = a.get_transform().transform(a.get_xydata())
+                    inside = [p for p in xy if ax.bbox.contains(*p)] if a.get_clip_on() else xy
+                    # half or more of the marker under the box
+                    markers += _points_in(box, inside, a.get_markersize() * fig.dpi / 72 / 4)
+                elif isinstance(a, PathCollection) and len(a.get_offsets()):
+                    xy = a.get_offset_transform().transform(a.get_offsets())
+                    markers += _points_in(box, xy)
+            alpha = np.asarray(r.buffer_rgba())[:, :, 3]
+            x0, x1 = max(int(box.x0), 0), min(int(np.ceil(box.x1)), W)
+            y0, y1 = max(int(H - np.ceil(box.y1)), 0), min(int(H - box.y0), H)
+            frac = float((alpha[y0:y1, x0:x1] > 20).sum()) / area
+            if frac > LEGEND_OVER_LINES or markers:
+                where = f"{tag}, axes {n + 1}" + (f" '{ax.get_title()}'" if ax.get_title() else "")
+                what = "figure legend" if leg in fig.legends else "legend"
+                over = f"{100 * frac:.1f} % of its box over lines"
+                if markers:
+                    over += f", {markers} marker{'s' * (markers > 1)} under it"
+                out.append(f"{where}: the {what} covers data ({over}): move it (another loc, "
+                           "or outside the axes: bbox_to_anchor, fig.legend(loc='outside …'))")
     return out
 
 
@@ -422,7 +562,7 @@ def _texts(fig, ax=None):
 
 
 def _words(i: str) -> str:
-    return f"write {name(i)!r}" if name(i) != i else "write it in words: imunav.core.style.name"
+    return f"write {name(i)!r}" if name(i) != i else "write it in words: imunav.plotting.style.name"
 
 
 def check_figure(fig) -> list[str]:
@@ -504,6 +644,7 @@ def check_figure(fig) -> list[str]:
                     out.append(f"{where}: a fixed y range the data fill {100 * frac:.0f} % of "
                                "(let it autoscale, or set it to the data)")
         out += _hidden_lines(fig, ax, where)
+    out += _legends_over_data(fig, renderer, tag)
     for what, size in small.items():
         out.append(f"{tag}: {what}s at {size:g} pt (at least {MIN_FONT_PT:g} pt on the page)")
     return out

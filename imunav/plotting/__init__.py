@@ -1,7 +1,9 @@
 """The plot functions behind the notebooks and ``imunav reproduce`` (general ones; each paper
-module draws its own figures), in the one figure style of :mod:`imunav.core.style` — re-exported
+module draws its own figures), in the one figure style of :mod:`imunav.plotting.style` — re-exported
 here, so ``from imunav.plotting import styled, use_book_style, check_figure`` works: one readable
-name, one colour and line style per named thing in every figure, and the figure check.
+name, one colour and line style per named thing in every figure, and the figure check. (The
+package's attribute ``style`` is the function :func:`style`, as before the move; import the
+module's names from it directly: ``from imunav.plotting.style import check_figure``.)
 
 Each plot function takes computed results and an optional axes/figure, draws, and returns it;
 nothing here computes what the analysis layer already does.
@@ -15,7 +17,8 @@ import numpy as np
 
 from imunav.analysis.montecarlo import MonteCarloResult
 from imunav.analysis.roundtrip import RoundTrip, round_trip
-from imunav.core.style import (  # noqa: F401 — the style's API, re-exported
+from imunav.motion.base import BaseMotion
+from imunav.plotting.style import (  # noqa: F401 — the style's API, re-exported
     ALGORITHM_GROUPS,
     BOOK_RC,
     DISTINCT,
@@ -41,7 +44,6 @@ from imunav.core.style import (  # noqa: F401 — the style's API, re-exported
     units_in,
     use_book_style,
 )
-from imunav.motion.base import BaseMotion
 
 # ------------------------------------------------------------ round trips
 
@@ -225,6 +227,7 @@ def plot_error_vs_rate(rows: list[dict], rates=(50, 100, 200, 400), fig=None,
     groups = [(title, ids) for title, ids in groups if ids]
     fig = fig or plt.figure(figsize=(MAX_WIDTH_IN, 0.9 + 2.3 * len(groups)), layout="constrained")
     axs = fig.subplots(len(groups), 2, sharex=True, squeeze=False)
+    striped = False
     for row, (title, ids) in enumerate(groups):
         for col, (key, what, unit, scale, floor) in enumerate(
                 (("pos", "position", "m", 1.0, floors[0]),
@@ -232,11 +235,12 @@ def plot_error_vs_rate(rows: list[dict], rates=(50, 100, 200, 400), fig=None,
             ax = axs[row, col]
             series = {i: [max(by_id[i][f"{key}_{r}"] * scale, floor) for r in rates] for i in ids}
             last = row == len(groups) - 1         # the left column's note under its panel
-            plot_coinciding(ax, rates, series, ids, labels=col == 1,   # (no tick labels there)
+            striped |= bool(plot_coinciding(
+                            ax, rates, series, ids, labels=col == 1,   # (no tick labels there)
                             note_loc="lower left" if col or last else "upper left",
                             note_width=34 if col else 40,
                             note_kw=None if col or last else
-                            {"bbox_to_anchor": (-0.35, -0.02), "frameon": False})
+                            {"bbox_to_anchor": (-0.35, -0.02), "frameon": False})["groups"])
             ax.set_xscale("log")
             ax.set_yscale("log")
             if min(min(v) for v in series.values()) <= 10 * floor:
@@ -247,8 +251,10 @@ def plot_error_vs_rate(rows: list[dict], rates=(50, 100, 200, 400), fig=None,
             if row == len(groups) - 1:
                 ax.set_xlabel("sample rate (Hz)")
         axs[row, 1].legend(loc="center left", bbox_to_anchor=(1.02, 0.5), fontsize=8)
-    fig.suptitle("dotted: the rounding floor (errors below it are drawn on it); a striped "
-                 "line is several that coincide", fontsize=8.5)
+    fig.suptitle("dotted: the rounding floor (errors below it are drawn on it)" + (
+        "; a striped line is several that coincide,\ntheir markers side by side around the "
+        "rate they belong to (shifted on the page, not in the data)" if striped else ""),
+        fontsize=8.5)
     return fig
 
 
@@ -282,9 +288,10 @@ def plot_error_vs_time(motion: BaseMotion, rate: float, names, duration: float |
 
 
 def plot_convergence(rows: list[dict], ax=None, key: str = "max_att_rad"):
-    """Log–log maximum error vs rate (at most 8 algorithms), each with a dotted reference line
-    of its documented order; coinciding series are drawn as one striped line, named in a legend
-    entry (:func:`plot_coinciding`)."""
+    """Log–log maximum error vs rate (at most 8 algorithms), each labelled with its measured
+    and (in parentheses) documented order, and the documented slope drawn dotted from its first
+    point where the two differ by more than :data:`DOCUMENTED_APART`; coinciding series are
+    drawn as one striped line, named in a legend entry (:func:`plot_coinciding`)."""
     import matplotlib.pyplot as plt
 
     ax = ax or plt.figure(figsize=(WIDTH_IN, 3.6), layout="constrained").add_subplot()
@@ -294,17 +301,35 @@ def plot_convergence(rows: list[dict], ax=None, key: str = "max_att_rad"):
     series = {i: list(np.asarray(by[i][key]) * scale) for i in ids}
     x = np.asarray(rows[0]["rates"], float)
     drawn = plot_coinciding(ax, x, series, ids)
+    okey, k = {"max_att_rad": ("order_att", 0), "max_vel": ("order_vel", 1),
+               "max_pos": ("order_pos", 2)}[key]
+    dotted, drawn_slopes = False, set()
+    group_of = {i: tuple(g) for g in drawn["groups"] for i in g}
     for i, line in drawn["artists"].items():
-        line.set_label(f"{name(i)} ({by[i]['order_att']:.1f})")
-    for i in ids:
-        e, p = np.asarray(series[i]), by[i]["documented"][0]
-        ax.plot(x, e[0] * (x / x[0]) ** (-p), ":", color=colour(i), lw=1)
+        meas, doc = by[i][okey], by[i]["documented"][k]
+        line.set_label(f"{name(i)}: {meas:.1f} ({doc})")
+        if abs(meas - doc) > DOCUMENTED_APART:       # a dotted line on its own curve is hidden
+            if (group_of.get(i, i), doc) in drawn_slopes:
+                continue                            # coinciding series: one slope line is enough
+            drawn_slopes.add((group_of.get(i, i), doc))
+            e = np.asarray(series[i])
+            ax.plot(x, e[0] * (x / x[0]) ** (-doc), ":", color=colour(i), lw=1)
+            dotted = True
     ax.set(xscale="log", yscale="log", xlabel="sample rate (Hz)",
            ylabel={"max_att_rad": "max attitude error (deg)", "max_vel": "max velocity error (m/s)",
                    "max_pos": "max position error (m)"}[key])
     rate_ticks(ax, x)
-    ax.legend(title="measured order (dotted: documented)")
+    ax.legend(title="measured order (documented)" + (
+        "\ndotted: the documented slope, where it differs" if dotted else "")
+        + ("\nstriped: series that coincide, markers\nside by side (shifted on the page)"
+           if drawn["groups"] else ""))
     return ax
+
+
+#: A measured order this far from the documented one gets the documented slope drawn dotted
+#: beside it; closer, the dotted line would lie on the measured one (the figure check's
+#: "hidden" line) and the legend's numbers say it.
+DOCUMENTED_APART = 0.2
 
 
 # ------------------------------------------------------------ Monte Carlo
@@ -394,7 +419,11 @@ def plot_allan(fits: dict, fig=None):
         ax.set(xlabel="τ (s)", ylabel=f"Allan deviation ({unit})",
                title="gyro" if triad == "gyro" else "accelerometer", ylim=(lo / 2, hi * 2))
         ax.grid(True, which="both", lw=0.3, alpha=0.5)
-    fig.axes[-1].legend(fontsize=8, loc="upper right")
+    handles = {}                  # one key for both panels, under them: inside, it covered dots
+    for ax in fig.axes:
+        handles.update(zip(*reversed(ax.get_legend_handles_labels()), strict=True))
+    fig.legend(list(handles.values()), list(handles), fontsize=8, loc="outside lower center",
+               ncols=3)
     return fig
 
 
