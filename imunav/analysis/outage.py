@@ -100,8 +100,10 @@ def aided_covariance(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, ra
     AlongTruth
     """
     duration = _span(motion, rate, duration)
-    return AlongTruth(motion, imu, aiding, rate, duration, kind=kind,
-                      covariance_step=covariance_step, algorithm=algorithm, g=g, terms=terms)
+    at = AlongTruth(motion, imu, aiding, rate, duration, kind=kind,
+                    covariance_step=covariance_step, algorithm=algorithm, g=g, terms=terms)
+    at.warnings += imu.missing_term_warnings()        # issue 38: no bias instability, say so
+    return at
 
 
 def _gnss_times(at: AlongTruth) -> FloatArray:
@@ -722,7 +724,7 @@ def bridgeable_outages(motion: BaseMotion, aiding: AidingConfig, rate: float, to
     -------
     list of dict
         ``{"imu", "max_outage_s", "outage_start_s", "position_p95_end_m",
-        "limited_by_motion"}``, longest first.
+        "limited_by_motion", "warnings"}``, longest first.
     """
     names = presets or [p for p in PRESETS if p != "ideal"]
     rows = []
@@ -731,7 +733,7 @@ def bridgeable_outages(motion: BaseMotion, aiding: AidingConfig, rate: float, to
                         start=start, budget=False, **kw)
         rows.append({"imu": name, **{k: f[k] for k in ("max_outage_s", "outage_start_s",
                                                       "position_p95_end_m",
-                                                      "limited_by_motion")}})
+                                                      "limited_by_motion", "warnings")}})
     rows.sort(key=lambda d: -d["max_outage_s"])
     return rows
 
