@@ -169,3 +169,23 @@ def test_common_scale_is_the_largest_imu_factor_within_the_tolerance(drive):
     k = D.common_scale(at, tol, [OUTAGE])
     assert A.outage_p95(at, [OUTAGE], imu_scale=k)[1].max() <= tol
     assert A.outage_p95(at, [OUTAGE], imu_scale=k * 1.05)[1].max() > tol
+
+
+def test_outage_answers_without_bias_instability_say_so(drive):
+    """Issue 38: a preset whose datasheet is silent on the in-run bias instability (the
+    BMI088's accelerometer) answers with a warning that names it; one that has it does not."""
+    aiding = _aiding()
+    bmi = ImuModel.load("BMI088")
+    r = A.assess_aided(drive, bmi, aiding, RATE, 10.0, DURATION, budget=False, progress=False)
+    assert sum("bias instability" in w for w in r["warnings"]) == 1, r["warnings"]
+    f = O.find_outage(drive, bmi, aiding, RATE, 10.0, DURATION, budget=False, starts=2)
+    assert sum("bias instability" in w for w in f["warnings"]) == 1, f["warnings"]
+    d = D.design_aided(drive, bmi, aiding, RATE, 10.0, DURATION, find="outage", presets=False)
+    assert sum("bias instability" in w for w in d["warnings"]) == 1, d["warnings"]
+    (row,) = O.bridgeable_outages(drive, aiding, RATE, 10.0, DURATION, presets=["BMI088"],
+                                  starts=2)
+    assert any("accel.bias_instability" in w for w in row["warnings"])
+    adis = A.assess_aided(drive, ImuModel.load("ADIS16470"), aiding, RATE, 10.0, DURATION,
+                          budget=False, progress=False)
+    assert not any("bias instability" in w for w in adis["warnings"])
+

@@ -206,3 +206,83 @@ def test_triad_model_replace_changes_only_what_is_asked():
     assert r.replace(bias=1e-3, range=None) == m
     with pytest.raises(TypeError, match="unexpected keyword"):
         m.replace(bias_drift=1.0)
+
+
+# --------------------------------------------------------------------- presets and their sources
+# (issue 38: presets a datasheet would recognise; a term the datasheet is silent on is not zero)
+
+def test_the_preset_page_is_the_table_generated_from_the_preset_data():
+    from pathlib import Path
+
+    from imunav.sensors.presets import preset_table
+
+    page = Path(__file__).parents[1] / "docs" / "presets.md"
+    assert page.read_text(encoding="utf-8") == preset_table(), (
+        "docs/presets.md differs from the preset data: regenerate it with preset_table()")
+
+
+def test_every_preset_term_has_a_basis_a_source_and_a_value_imunav_reads():
+    from imunav.sensors.presets import BASES, PRESET_SPECS, PRESETS
+
+    assert set(PRESET_SPECS) == set(PRESETS)
+    for name, p in PRESET_SPECS.items():
+        assert p.document and p.grade in ("consumer", "industrial", "tactical", "ideal"), name
+        for triad in ("gyro", "accel"):
+            specs = getattr(p, triad)
+            assert PRESETS[name][triad] == {k: s.value for k, s in specs.items()}
+            for key, s in specs.items():
+                assert s.basis in BASES, (name, triad, key)
+                assert len(s.source) > 10, (name, triad, key)      # says where, not just "—"
+                assert parse(s.value, f"{triad}.{key}") > 0, (name, triad, key)
+                if s.basis == "typical":         # a characterisation of that part, named
+                    assert "Allan" in s.source and name.replace("-", "") in s.source.replace(
+                        "-", ""), (name, triad, key)
+        model = ImuModel.load(name)
+        assert set(model.terms()) >= {f"{t}.{k}" for t in ("gyro", "accel")
+                                      for k in getattr(p, t) if k != "bias_correlation_time"}
+
+
+def test_every_consumer_preset_has_a_bias_instability_or_its_answers_warn():
+    from imunav.sensors.presets import PRESET_SPECS
+
+    consumer = [n for n, p in PRESET_SPECS.items() if p.grade == "consumer"]
+    assert {"MPU-6050", "BMI088", "BNO055"} <= set(consumer)
+    for name in PRESET_SPECS:
+        model = ImuModel.load(name)
+        w = model.missing_term_warnings()
+        lacking = [t for t in ("gyro", "accel")
+                   if getattr(model, t).active() and not getattr(model, t).bias_instability]
+        if name in consumer:
+            assert not lacking or (len(w) == 1 and "bias instability" in w[0]), name
+        # the warning exactly when a triad lacks it, naming that triad's key
+        assert bool(w) == bool(lacking), name
+        for t in lacking:
+            assert f"{t}.bias_instability" in w[0], (name, t)
+    # the MPU-6050's gyro carries the published value; its accelerometer has none, and says so
+    mpu = ImuModel.load("MPU-6050")
+    assert mpu.gyro.bias_instability == pytest.approx(0.0012 * np.pi / 180, rel=1e-12)
+    assert "accelerometer has no bias instability" in mpu.missing_term_warnings()[0]
+    # no warning for a triad without errors, nor for one with only a range
+    assert ImuModel(TriadModel(range=30.0), TriadModel()).missing_term_warnings() == []
+
+
+def test_an_imu_toml_with_bias_instability_parses(tmp_path):
+    p = tmp_path / "imu.toml"
+    p.write_text('[gyro]\nnoise_density = "0.005 deg/s/sqrt(Hz)"\nbias = "20 deg/s"\n'
+                 'bias_instability = "4.3 deg/h"\nbias_correlation_time = "100 s"\n'
+                 '[accel]\nbias = "50 mg"\n')
+    m = ImuModel.from_toml(p)
+    assert m.gyro.bias_instability == pytest.approx(4.3 * np.pi / 180 / 3600, rel=1e-12)
+    assert m.gyro.bias_correlation_time == 100.0
+    assert "gyro.bias_instability" in m.terms()
+    (w,) = m.missing_term_warnings()
+    assert "imu: the accelerometer has no bias instability" in w and "gyro" not in w.split(";")[0]
+
+
+def test_an_assessment_without_bias_instability_says_so():
+    model = ImuModel(TriadModel(bias=1e-3), TriadModel(noise_density=1e-3), "toy")
+    for method, runs in (("covariance", None), ("montecarlo", 4)):
+        r = assess(WALK, model, 50.0, runs, 1.0, seed=1, progress=False, method=method)
+        assert sum("bias instability" in w for w in r["warnings"]) == 1, (method, r["warnings"])
+    r = assess(WALK, ImuModel.load("tactical"), 50.0, None, 1.0, progress=False)
+    assert not any("bias instability" in w for w in r["warnings"])

@@ -5,12 +5,14 @@ side on the same increments."""
 
 import numpy as np
 import pytest
+from test_earth import tr8350_gravity
 
 from imunav import ImunavError, Motion, States, navigate, simulate_imu
 from imunav import earth as E
 from imunav.analysis.metrics import fit_order, nav_errors
 from imunav.core.rotations import euler_to_quat
 from imunav.motion import EarthMotion
+from imunav.sensors.signals import ImuSignals
 from imunav.strapdown import ALGORITHMS
 from imunav.strapdown.registry import StreamNavigator, navigate_batch
 
@@ -75,6 +77,27 @@ def test_an_hour_at_rest_at_100_hz_does_not_depend_on_the_piece_length(monkeypat
     assert err[64.0][2] < 5e-5 and err[640.0][2] < 5e-5, err
     assert err[640.0][2] == pytest.approx(err[64.0][2], rel=0.2), err
     assert np.hypot(*err[640.0][:2]) < 2e-6, err
+
+
+def test_at_rest_high_up_the_navigator_holds_still_on_tr8350_gravity():
+    """The navigator's gravity against an independent copy of TR8350.2's second-order expansion
+    (test_earth.py), not against imunav's simulator (which shares the model): the IMU at rest at
+    80° N, 30 km, reads the Earth rate and −γ(L, h) of that copy; two minutes later the
+    navigation has not moved. Without the −2f sin²L term (6e-4 m/s² there) it sank 4.3 m;
+    measured 4.1e-7 m."""
+    origin = (80 * DEG, -20 * DEG, 3e4)
+    q_nb = euler_to_quat([0.3, 0.1, -0.2])
+    from imunav.core.rotations import quat_conj, quat_rotate
+
+    rate, T = 10.0, 120.0
+    t = np.arange(1, int(T * rate) + 1) / rate
+    w_b = quat_rotate(quat_conj(q_nb), E.earth_rate_ned(origin[0]))
+    f_b = -quat_rotate(quat_conj(q_nb), [0.0, 0.0, float(tr8350_gravity(origin[0], origin[2]))])
+    sig = ImuSignals(t, np.tile(w_b / rate, (t.size, 1)), np.tile(f_b / rate, (t.size, 1)),
+                     "increments", rate)
+    nav = navigate(sig, q_nb, np.zeros(3), np.array(origin), earth="wgs84")
+    d = np.abs(E.ned_difference(nav.position, np.tile(origin, (nav.t.size, 1)))).max(axis=0)
+    assert d[2] < 1e-4 and np.hypot(d[0], d[1]) < 1e-4, d
 
 
 @pytest.mark.parametrize("lat, lon", [(89.99, 179.995), (-89.99, -179.995), (0.0, 180.0),
@@ -175,8 +198,10 @@ def test_every_algorithm_keeps_its_order_and_its_flat_frame_error(kind, name):
             continue                    # the spinning cone's v/p errors are attitude echoes
         if key == "position" and min(e) < 1e-7:
             # below ~1e-8 m the geodetic representation (latitude's last bit is 0.7 nm) and the
-            # ECEF positions' (0.9 nm at 6.4e6 m) dominate: only the bound is checked
-            assert e[1] < max(1.05 * f, 1e-8)
+            # ECEF positions' (0.9 nm at 6.4e6 m) dominate: only the bound is checked, with those
+            # few nm (rates magnus4: 2.92e-8 m, 3.03e-8 after gravity's −2f sin²L term changed
+            # its last bits, against 2.83e-8 m flat)
+            assert e[1] < max(1.05 * f, f + 3e-9, 1e-8)
             continue
         assert e[1] == pytest.approx(f, rel=1e-2), (key, e[1], f)
         assert abs(fit_order([1 / r for r in rates], e) - doc[i]) < 0.3, (key, e, doc[i])

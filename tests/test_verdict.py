@@ -104,7 +104,10 @@ def test_assess_is_the_verdict_of_its_monte_carlo(monkeypatch):
     mc = monte_carlo(m, model, 20.0, runs=6, seed=4, progress=False)
     budget = {t: monte_carlo(m, model.only(t), 20.0, runs=6, seed=4, progress=False)
               for t in model.terms()}
-    assert got == A.verdict(mc, 0.5, budget, 10.0, motion="m", imu="BMI088", seed=4)
+    expected = A.verdict(mc, 0.5, budget, 10.0, motion="m", imu="BMI088", seed=4)
+    # and the warning of a model without an accelerometer bias instability (issue 38)
+    expected["warnings"] += model.missing_term_warnings()
+    assert got == expected and len(model.missing_term_warnings()) == 1
 
 
 def test_verdict_record_in_full():

@@ -89,8 +89,10 @@ def aided_covariance(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, ra
     AlongTruth
     """
     duration = aided_span(motion, rate, duration)
-    return AlongTruth(motion, imu, aiding, rate, duration, kind=kind,
-                      covariance_step=covariance_step, algorithm=algorithm, g=g, terms=terms)
+    at = AlongTruth(motion, imu, aiding, rate, duration, kind=kind,
+                    covariance_step=covariance_step, algorithm=algorithm, g=g, terms=terms)
+    at.warnings += imu.missing_term_warnings()        # issue 38: no bias instability, say so
+    return at
 
 
 def gnss_times(at: AlongTruth) -> FloatArray:

@@ -332,6 +332,7 @@ def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, toleranc
                              **al)
     r = verdict_covariance(cov, tolerance, min_sample_rate(motion, tolerance, duration, output),
                            motion=motion.name, imu=model.name)
+    r["warnings"] += model.missing_term_warnings()      # issue 38: no bias instability, say so
     det = deterministic_error(motion, model, rate, duration, output,
                               peaks=(cov.max_rate, cov.max_force))
     r["deterministic_position_m"] = None if det is None else det[0]
@@ -474,6 +475,7 @@ def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int | None = 
               for term in model.terms()}
     r = verdict(mc, tolerance, budget, min_sample_rate(motion, tolerance, duration, output),
                 motion=motion.name, imu=model.name, seed=seed)
+    r["warnings"] += model.missing_term_warnings()      # issue 38: no bias instability, say so
     if mc.horizontal is not None:
         r["vertical"] = vertical
         hor = float(np.percentile(mc.horizontal[:, -1], PERCENTILE))

@@ -228,7 +228,7 @@ def bridgeable_outages(motion: BaseMotion, aiding: AidingConfig, rate: float, to
     -------
     list of dict
         ``{"imu", "max_outage_s", "outage_start_s", "position_p95_end_m",
-        "limited_by_motion"}``, longest first.
+        "limited_by_motion", "warnings"}``, longest first.
     """
     names = presets or [p for p in PRESETS if p != "ideal"]
     rows = []
@@ -237,7 +237,7 @@ def bridgeable_outages(motion: BaseMotion, aiding: AidingConfig, rate: float, to
                         start=start, budget=False, **kw)
         rows.append({"imu": name, **{k: f[k] for k in ("max_outage_s", "outage_start_s",
                                                       "position_p95_end_m",
-                                                      "limited_by_motion")}})
+                                                      "limited_by_motion", "warnings")}})
     rows.sort(key=lambda d: -d["max_outage_s"])
     return rows
 

@@ -341,6 +341,45 @@ class ImuModel:
         return ImuModel(self.gyro.only(name if tri == "gyro" else None),
                         self.accel.only(name if tri == "accel" else None), f"{self.name}:{term}")
 
+    def missing_term_warnings(self) -> list[str]:
+        """The warning an answer about this IMU carries when a triad with errors (of the linear
+        error model: not only a range, a filter or a rate) has no bias instability: the in-run
+        drift that a filter cannot estimate away, and that decides how long an outage is
+        bridged. A term the datasheet is silent on is not zero — without it the turn-on bias,
+        once estimated, never moves again and the answer is optimistic.
+
+        The one check every assessment and outage answer calls
+        (:func:`~imunav.analysis.assessment.assess`,
+        :func:`~imunav.analysis.outage.aided_covariance` and through it ``assess_aided``,
+        ``find_outage``, ``design_aided``).
+
+        Returns
+        -------
+        list of str
+            Empty, or one warning naming the triads without "bias instability".
+
+        Examples
+        --------
+        >>> ImuModel(TriadModel(bias=1e-3), TriadModel(), "demo").missing_term_warnings()[0][:58]
+        'demo: the gyro has no bias instability (in-run bias drift)'
+        >>> ImuModel.load("ADIS16470").missing_term_warnings()
+        []
+        """
+        names = {"gyro": "gyro", "accel": "accelerometer"}
+        # a triad with errors of the linear model (not only a range, a filter, a rate)
+        lacking = [names[t] for t in TRIADS
+                   if any(term.is_error and term.linear and term.present(getattr(self, t))
+                          for term in TERMS.values())
+                   and not getattr(self, t).bias_instability]
+        if not lacking:
+            return []
+        return [f"{self.name}: the {' and the '.join(lacking)} "
+                f"{'has' if len(lacking) == 1 else 'have'} no bias instability (in-run bias "
+                "drift): a term the datasheet is silent on is not zero — without it a turn-on "
+                "bias, once estimated, never moves again and the answer is optimistic; give "
+                f"{' and '.join(t + '.bias_instability' for t in TRIADS if names[t] in lacking)}"
+                " (an Allan-variance value of the part)"]
+
     @property
     def internal_rate(self) -> float | None:
         """The sensor's internal sample rate (Hz): the larger of the triads', or None."""
