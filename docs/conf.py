@@ -1,7 +1,10 @@
 """Sphinx configuration of the imunav book (``make book``).
 
 The pages are the stored notebooks (never re-executed: ``nb_execution_mode = "off"``), a
-landing page and an API reference generated from the numpydoc docstrings. Code cells that only
+landing page, the guides and reference pages of ``docs/`` (the command-line reference rendered
+from imunav's own argument parser by ``clidoc.py``; example files and benchmark records
+included from the files themselves) and an API reference generated from the numpydoc
+docstrings. Code cells that only
 draw carry the cell tag ``hide-input`` and exercise solutions ``hide-cell``: myst-nb folds them
 behind a "Show code" toggle, so a page reads as words, equations and figures. Figures are shown
 at the size stored in their output metadata (``imunav.plotting.use_book_style``), so their text
@@ -15,6 +18,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.abspath("../.."))   # build/book-src → repository root
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))   # clidoc.py beside this file
 
 project = "imunav"
 author = "imunav developers"
@@ -26,6 +30,7 @@ extensions = [
     "numpydoc",
     "sphinx.ext.mathjax",
     "sphinx-mathjax-offline",
+    "clidoc",                 # {imunav-cli} COMMAND: the CLI reference from imunav's own parser
 ]
 
 # Notebooks: shown as stored (outputs and figures committed by `make notebooks`).
@@ -79,5 +84,28 @@ def _escape_bars(app, what, name, obj, options, lines):
             lines[i] = "".join(p if j % 2 else p.replace("|", r"\|") for j, p in enumerate(parts))
 
 
+# The contributor page includes the repository's DEVELOPERS.md as it stands (one text, kept where
+# the developers read it): its headings one level down, its repository-relative links to docs/
+# made relative to the book. MyST's include directive cannot do the latter (the book is built
+# from a copy of docs/), so the text is put in place of a marker when the page is read.
+DEVELOPERS_MARKER = "<!-- DEVELOPERS.md:"
+_REPO = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
+
+
+def _developers_md() -> str:
+    with open(os.path.join(_REPO, "DEVELOPERS.md"), encoding="utf-8") as fh:
+        text = fh.read()
+    text = re.sub(r"^(#+) ", r"#\1 ", text, flags=re.M)          # one heading level down
+    return re.sub(r"\]\(docs/", "](", text)                        # docs/x.md → x.md
+
+
+def _include_developers(app, docname, source):
+    if docname == "contributing":
+        lines = source[0].splitlines(keepends=True)
+        source[0] = "".join(_developers_md() + "\n" if line.startswith(DEVELOPERS_MARKER) else line
+                            for line in lines)
+
+
 def setup(app):
     app.connect("autodoc-process-docstring", _escape_bars, priority=100)
+    app.connect("source-read", _include_developers)

@@ -51,10 +51,11 @@ def _errors_by_hand(motion, rate, kind, name, duration=None):
     return nav, att, vel, pos
 
 
-# Attitude orders and causality of three algorithms, written from their definitions (README
-# algorithm table): an Euler step on sampled rates is first order; on exact increments the
-# one-step exponential errs only by the non-commutativity of the interval, second order;
-# Magnus-4 on rates is fourth order and needs the next sample (not causal).
+# Attitude orders and causality of three algorithms, written from their definitions (the
+# algorithm table of docs/algorithms.md): an Euler step on sampled rates is first order; on
+# exact increments the one-step exponential errs only by the non-commutativity of the
+# interval, second order; Magnus-4 on rates is fourth order and needs the next sample (not
+# causal).
 DOCUMENTED = {("rates", "first_order"): (1, True), ("increments", "first_order"): (2, True),
               ("rates", "magnus4"): (4, False)}
 

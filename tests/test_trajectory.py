@@ -46,7 +46,7 @@ def test_pose_spline_convergence_against_the_analytic_motion():
     ew, ef = np.array([_errors(r) for r in rates]).T
     assert fit_order(1 / np.array(rates), ew) == pytest.approx(3.0, abs=0.2)
     assert fit_order(1 / np.array(rates), ef) == pytest.approx(4.0, abs=0.5)
-    assert ew[-1] < 1e-8 and ef[-1] < 1e-9                 # 100 Hz poses (README numbers)
+    assert ew[-1] < 1e-8 and ef[-1] < 1e-9                 # 100 Hz poses (docs/guide_real_logs.md)
 
 
 def test_increments_are_exact_for_the_spline():
@@ -172,7 +172,8 @@ def test_cli_simulate_pose_csv_matches_the_analytic_rates(tmp_path, capsys):
     assert "t = 3 s in" in capsys.readouterr().out
     sig = read_signals(out)
     inner = (sig.t > 2) & (sig.t < 18)
-    # README: 5.2e-11 rad/s and 3.0e-10 m/s² measured at these sample times (poses and midpoints)
+    # docs/guide_real_logs.md: 5.2e-11 rad/s and 3.0e-10 m/s² measured at these sample times
+    # (poses and midpoints)
     assert np.abs(sig.gyro[inner] - TRUE.angular_rate(sig.t[inner])).max() < 2e-10
     assert np.abs(sig.accel[inner] - TRUE.specific_force(sig.t[inner])).max() < 1e-9
     # a truth CSV is accepted as poses (its velocities ignored)

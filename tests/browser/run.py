@@ -11,7 +11,9 @@ and fail unless the figure under it changes.
 
 *Book* — open every page of ``build/book/`` (served on loopback), fail on a console error or a
 failed request (everything must be bundled), on a notebook page with fewer images than the
-notebook stores, or on math that MathJax did not render.
+notebook stores, or on math that MathJax did not render. Every page of ``docs/`` (the guides,
+the references, the contributor pages) must be among them, and the command-line reference must
+show one generated option table per command.
 
 *A stalled run* — the kernel idle, cells still pending, nothing run for 90 s — is a message whose
 wake-up was lost on the way (the same edge-triggered zmq file descriptors whose lost wake-ups
@@ -44,6 +46,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 NOTEBOOKS = sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb"))
+DOCS = sorted(p for p in (ROOT / "docs").iterdir() if p.suffix in (".md", ".rst"))
 BOOK = ROOT / "build" / "book"
 CHROMIUM = os.environ.get("CHROMIUM", "/usr/lib/chromium/chromium")
 RUN_TIMEOUT_S = 600          # one notebook's Run All
@@ -373,6 +376,12 @@ def run_book(browser, only: str | None) -> None:
         wait_http(f"http://127.0.0.1:{port}/index.html")
         pages = sorted(p.relative_to(BOOK).as_posix() for p in BOOK.glob("*.html")
                        if p.name not in ("genindex.html", "search.html", "py-modindex.html"))
+        # every page written in docs/ is built and so visited below (a page left out of the
+        # toctree fails `make book` already; this catches a build from a stale docs/)
+        missing = sorted(f"{d.stem}.html" for d in DOCS if f"{d.stem}.html" not in pages)
+        if not (only and not any(only in f"{d.stem}.html" for d in DOCS)):
+            report("book pages of docs/", not missing,
+                   f"{len(DOCS)} pages, all built" if not missing else f"not built: {missing}")
         for rel in pages:
             if only and only not in rel:
                 continue
@@ -408,6 +417,12 @@ def run_book(browser, only: str | None) -> None:
                                        ".filter(i => !i.complete || i.naturalWidth === 0).length")
                 nb = ROOT / "notebooks" / rel.replace(".html", ".ipynb")
                 need = stored_images(nb) if nb.exists() else 0
+                if rel == "cli.html":      # one generated option table per {imunav-cli} command
+                    tables = page.evaluate("() => document.querySelectorAll("
+                                           "'article table.imunav-cli-options').length")
+                    want = (ROOT / "docs" / "cli.md").read_text().count("```{imunav-cli} ")
+                    if tables != want:
+                        problems.append(f"{tables} option tables, docs/cli.md has {want} commands")
                 if math[1]:
                     problems.append(f"{math[1]} of {math[0]} math elements not rendered")
                 if raw:
