@@ -220,7 +220,8 @@ def gnss_alignment(signals: ImuSignals, gnss_t: npt.ArrayLike, gnss_position: np
     removed) carries that attitude forward; at the GNSS epochs of the first ``heading_seconds``
     after the horizontal speed first reaches ``speed``, the yaw is compared with the course
     ``atan2(v_E, v_N)`` — the body x axis is assumed to be the direction of travel — and the
-    attitude turned about the vertical by their circular mean. The state is given at the IMU
+    attitude turned about the vertical by their circular mean, each epoch weighted by its
+    speed squared (a course's error is about ``σ_v / speed``: inverse-variance weights). The state is given at the IMU
     node nearest the last of those epochs: velocity and position from that epoch, carried from
     the antenna to the IMU (``v − C (ω × l)``, ``p + v Δt − C l``).
 
@@ -238,7 +239,8 @@ def gnss_alignment(signals: ImuSignals, gnss_t: npt.ArrayLike, gnss_position: np
         The still window (s).
     speed : float, default 5.0
         Horizontal speed (m/s) from which the course is a heading: its error is about
-        ``σ_v / speed`` (0.6° for 5 cm/s at 5 m/s).
+        ``σ_v / speed`` (0.6° for 5 cm/s at 5 m/s; a vehicle that must start navigating soon
+        after it drives off can take a lower speed, ~10 σ_v).
     heading_seconds : float, default 1.0
         Seconds of epochs averaged from that moment.
     lever_arm : array_like, shape (3,)
@@ -300,9 +302,11 @@ def gnss_alignment(signals: ImuSignals, gnss_t: npt.ArrayLike, gnss_position: np
     yaw = quat_to_euler(q_carried[k])[:, 0]
     course = np.arctan2(vel[use, 1], vel[use, 0])
     d = np.exp(1j * (course - yaw))
-    dpsi = float(np.angle(d.mean()))
+    w = horiz[use] ** 2                        # a course's error is about σ_v / speed
+    mean = (w * d).sum() / w.sum()
+    dpsi = float(np.angle(mean))
     found = list(st.warnings)
-    scatter = math.sqrt(max(0.0, -2.0 * math.log(max(abs(d.mean()), 1e-300))))
+    scatter = math.sqrt(max(0.0, -2.0 * math.log(max(abs(mean), 1e-300))))
     if scatter > HEADING_SCATTER:
         _warn(found, f"GNSS headings scatter by {scatter / DEG:.2g}° over {use.size} epochs "
                      f"from t = {t_first:.6g} s: sideslip, or the body x axis is not the "
