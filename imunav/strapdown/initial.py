@@ -221,9 +221,9 @@ def gnss_alignment(signals: ImuSignals, gnss_t: npt.ArrayLike, gnss_position: np
     after the horizontal speed first reaches ``speed``, the yaw is compared with the course
     ``atan2(v_E, v_N)`` — the body x axis is assumed to be the direction of travel — and the
     attitude turned about the vertical by their circular mean, each epoch weighted by its
-    speed squared (a course's error is about ``σ_v / speed``: inverse-variance weights). The state is given at the IMU
-    node nearest the last of those epochs: velocity and position from that epoch, carried from
-    the antenna to the IMU (``v − C (ω × l)``, ``p + v Δt − C l``).
+    speed squared (a course's error is about ``σ_v / speed``: inverse-variance weights). The
+    state is given at the IMU node nearest the last of those epochs: velocity and position from
+    that epoch, carried from the antenna to the IMU (``v − C (ω × l)``, ``p + v Δt − C l``).
 
     Parameters
     ----------
