@@ -120,3 +120,209 @@ def test_static_segments_end_with_the_last_quiet_sample():
     assert segs == [(0, 50), (80, 150)]
     for a, b in segs:
         assert np.all(sig.gyro[a:b] == 0.0)
+
+
+# ----------------------------------------------------------------------------- issue 36
+# Logs as they come: files without a header, names with spaces and parentheses, RTKLIB time
+# tags, and magnitudes that do not fit the units. Every file is written by the test.
+
+import struct  # noqa: E402
+import warnings  # noqa: E402
+
+from imunav.io import rtklib  # noqa: E402
+
+DEG = np.pi / 180
+G = 9.80665
+
+
+def _log(n=600, rate=100.0, seed=36):
+    """A 6-s IMU log in g and °/s: at rest for 2 s (bias 0.5, −0.3, 0.2 °/s), then turning at
+    30 °/s about z and shaking (0.3 g)."""
+    rng = np.random.default_rng(seed)
+    gyro = np.array([0.5, -0.3, 0.2]) + rng.normal(0, 0.05, (n, 3))
+    accel = np.array([0.0, 0.0, -1.0]) + rng.normal(0, 0.002, (n, 3))
+    still = int(2 * rate)
+    gyro[still:, 2] += 30.0
+    accel[still:] += rng.normal(0, 0.3, (n - still, 3))
+    return gyro, accel
+
+
+def _csv(path, cols, header=None):
+    lines = [] if header is None else [header]
+    lines += [",".join(f"{v:.6f}" for v in row) for row in np.column_stack(cols)]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_generic_headerless_by_index(tmp_path):
+    gyro, accel = _log()
+    p = _csv(tmp_path / "log.csv", [accel, gyro])
+    rec = R.read_generic(p, gyro_columns=[3, 4, 5], accel_columns=[0, 1, 2], gyro_units="deg/s",
+                         accel_units="g", rate=100)
+    s = rec.signals
+    assert len(s) == 600 and s.rate == pytest.approx(100.0) and s.t[0] == 0.0
+    np.testing.assert_allclose(s.gyro, np.round(gyro, 6) * DEG, rtol=1e-12)
+    np.testing.assert_allclose(s.accel, np.round(accel, 6) * G, rtol=1e-12)
+    # the command line passes strings: digits that are not a header's names are indices
+    rec2 = R.read_generic(p, gyro_columns=["3", "4", "5"], accel_columns=["0", "1", "2"],
+                          gyro_units="deg/s", accel_units="g", rate=100)
+    np.testing.assert_array_equal(rec2.signals.gyro, s.gyro)
+
+
+@pytest.mark.parametrize("kw, msg", [
+    (dict(gyro_columns=["gx", "gy", "gz"]), "has no header line .* give gyro_columns by 0-based"),
+    (dict(accel_columns=[0, 1, 6]), "accel_columns index 6 is out of range .* 6 columns"),
+    (dict(gyro_columns=[3, 4]), "must each name 3 columns"),
+    (dict(rate=None), "give either time_column or rate"),
+])
+def test_generic_headerless_refusals(tmp_path, kw, msg):
+    gyro, accel = _log()
+    p = _csv(tmp_path / "log.csv", [accel, gyro])
+    args = dict(gyro_columns=[3, 4, 5], accel_columns=[0, 1, 2], gyro_units="deg/s",
+                accel_units="g", rate=100)
+    args.update(kw)
+    with pytest.raises(ImunavError, match=msg):
+        R.read_generic(p, **args)
+
+
+def test_generic_headerless_bad_row_names_its_line(tmp_path):
+    p = tmp_path / "log.csv"
+    p.write_text("0,0,-1,0,0,0\n0,0,-1,0,0,0\n0,0,x,0,0,0\n")
+    with pytest.raises(ImunavError, match=r"line 3, column 2: 'x' is not a finite number"):
+        R.read_generic(p, gyro_columns=[3, 4, 5], accel_columns=[0, 1, 2], accel_units="g",
+                       rate=100)
+    p.write_text("0,0,-1,0,0,0\n0,0,-1,0,0\n")
+    with pytest.raises(ImunavError, match=r"line 2: expected 6 columns .* got 5"):
+        R.read_generic(p, gyro_columns=[3, 4, 5], accel_columns=[0, 1, 2], accel_units="g",
+                       rate=100)
+
+
+@pytest.mark.parametrize("header", [
+    "Time (s),Gyro X (deg/s),Gyro Y (deg/s),Gyro Z (deg/s),Acc X (g),Acc Y (g),Acc Z (g)",
+    '"Time (s)", "Gyro X (deg/s)","Gyro Y (deg/s)","Gyro Z (deg/s)","Acc X (g)","Acc Y (g)",'
+    '"Acc Z (g)"',
+])
+def test_generic_names_with_spaces_and_parentheses(tmp_path, header):
+    gyro, accel = _log()
+    t = np.arange(600) / 100.0
+    p = _csv(tmp_path / "log.csv", [t, gyro, accel], header=header)
+    rec = R.read_generic(p, gyro_columns=["Gyro X (deg/s)", "Gyro Y (deg/s)", "Gyro Z (deg/s)"],
+                         accel_columns=["Acc X (g)", "Acc Y (g)", "Acc Z (g)"],
+                         time_column="Time (s)", gyro_units="deg/s", accel_units="g")
+    assert rec.signals.rate == pytest.approx(100.0)
+    np.testing.assert_allclose(rec.signals.gyro[:, 2], np.round(gyro[:, 2], 6) * DEG)
+    # and by index in a file with a header
+    rec2 = R.read_generic(p, gyro_columns=[1, 2, 3], accel_columns=[4, 5, 6], time_column=0,
+                          gyro_units="deg/s", accel_units="g")
+    np.testing.assert_array_equal(rec2.signals.accel, rec.signals.accel)
+
+
+def _tag_file(path, start, last_tick, last_fpos):
+    body = b"TIMETAG RTKLIB demo5".ljust(60, b"\0") + struct.pack("<IId", 0, int(start),
+                                                                   start - int(start))
+    body += struct.pack("<IIII", 130, 40, last_tick, last_fpos)
+    path.write_bytes(body)
+    return path
+
+
+def _counter_log(tmp_path, n=600, seed=7):
+    """A headerless log with a millisecond counter read with ±1 ms of jitter (last column)."""
+    gyro, accel = _log(n)
+    rng = np.random.default_rng(seed)
+    counter = 261906 + 10 * np.arange(n) + np.round(rng.uniform(-1, 1, n))
+    return _csv(tmp_path / "imu.csv", [accel, gyro, counter]), counter
+
+
+def test_generic_timed_by_an_rtklib_tag(tmp_path):
+    p, counter = _counter_log(tmp_path)
+    start = 1752003261.854
+    span = int(counter[-1] - counter[0])
+    tag = _tag_file(tmp_path / "imu.csv.tag", start, span, p.stat().st_size)
+    kw = dict(gyro_columns=[3, 4, 5], accel_columns=[0, 1, 2], gyro_units="deg/s",
+              accel_units="g", time_column=6, time_units="ms", tag=tag)
+    s = R.read_generic(p, time_offset=-0.125, **kw).signals
+    # GPST seconds on the tag's axis: the first sample at the start plus the offset, the last
+    # on the last tick (the counter's jitter fitted away: uniform steps)
+    assert s.t[0] == pytest.approx(start - 0.125, abs=2e-3)
+    assert s.t[-1] - s.t[0] == pytest.approx(span / 1000.0, abs=1e-6)
+    assert np.ptp(np.diff(s.t)) < 1e-6
+    # a file converted from CRLF to LF is one byte a line shorter than the tag says
+    tag2 = _tag_file(tmp_path / "crlf.tag", start, span, p.stat().st_size + 600)
+    R.read_generic(p, **{**kw, "tag": tag2})
+    # the tag with rate instead of a counter column
+    s3 = R.read_generic(p, **{**kw, "time_column": None, "rate": 100.0}).signals
+    assert s3.t[0] == pytest.approx(start) and s3.t[-1] - s3.t[0] == pytest.approx(span / 1e3)
+
+
+@pytest.mark.parametrize("tick_factor, fpos_factor, msg", [
+    (2.0, 1.0, r"spans 11.98 s but the time column spans 5.99\d* s: the tag belongs to another"),
+    (1.0, 3.0, "last file position is .* the tag belongs to another record"),
+    (1.0, 0.5, "last file position is .* the tag belongs to another record"),
+])
+def test_generic_refuses_a_tag_of_another_record(tmp_path, tick_factor, fpos_factor, msg):
+    p, counter = _counter_log(tmp_path)
+    span = int(counter[-1] - counter[0])
+    tag = _tag_file(tmp_path / "other.tag", 1.7e9, int(span * tick_factor),
+                    int(p.stat().st_size * fpos_factor))
+    with pytest.raises(ImunavError, match=msg) as exc:
+        R.read_generic(p, gyro_columns=[3, 4, 5], accel_columns=[0, 1, 2], gyro_units="deg/s",
+                       accel_units="g", time_column=6, time_units="ms", tag=tag)
+    assert "\n" not in str(exc.value)
+    not_a_tag = tmp_path / "x.tag"
+    not_a_tag.write_bytes(b"hello")
+    with pytest.raises(ImunavError, match="not an RTKLIB time-tag file"):
+        R.read_generic(p, gyro_columns=[3, 4, 5], accel_columns=[0, 1, 2], gyro_units="deg/s",
+                       accel_units="g", time_column=6, time_units="ms", tag=not_a_tag)
+
+
+@pytest.mark.parametrize("units, msg", [
+    (dict(gyro_units="rad/s"), r"gyro: .* rad/s RMS .* while the accelerometer is still.*"
+                               r"look like deg/s; check gyro_units"),
+    (dict(accel_units="m/s^2"), r"accelerometer: \|f\| = 1 m/s² with accel_units = 'm/s\^2'.*"
+                                r"look like 'g'"),
+])
+def test_generic_refuses_units_that_do_not_fit(tmp_path, units, msg):
+    gyro, accel = _log()
+    p = _csv(tmp_path / "log.csv", [accel, gyro])
+    kw = dict(gyro_columns=[3, 4, 5], accel_columns=[0, 1, 2], gyro_units="deg/s",
+              accel_units="g", rate=100)
+    kw.update(units)
+    with pytest.raises(ImunavError, match=msg) as exc:
+        R.read_generic(p, **kw)
+    assert "\n" not in str(exc.value)
+    assert R.read_generic(p, check_units=False, **kw).signals.rate == pytest.approx(100.0)
+
+
+def test_generic_unit_checks_in_motion(tmp_path):
+    gyro, accel = _log()
+    # accelerometer data in m/s² declared as g: 9.81 g where it is quietest
+    p = _csv(tmp_path / "ms2.csv", [accel * G, gyro])
+    with pytest.raises(ImunavError, match="look like 'm/s\\^2'"):
+        R.read_generic(p, gyro_columns=[3, 4, 5], accel_columns=[0, 1, 2], gyro_units="deg/s",
+                       accel_units="g", rate=100)
+    # a gyro turning at 300 °/s read as rad/s: beyond any MEMS range
+    fast = gyro.copy()
+    fast[:, 2] *= 10
+    p = _csv(tmp_path / "fast.csv", [accel, fast])
+    with pytest.raises(ImunavError, match="beyond any MEMS gyro's range"):
+        R.read_generic(p, gyro_columns=[3, 4, 5], accel_columns=[0, 1, 2], accel_units="g",
+                       rate=100)
+    # rad/s read as deg/s: the gyro hardly moves while the accelerometer shakes
+    p = _csv(tmp_path / "rad.csv", [accel, gyro * DEG])
+    with pytest.warns(UserWarning, match="look like rad/s read as deg/s"):
+        R.read_generic(p, gyro_columns=[3, 4, 5], accel_columns=[0, 1, 2], gyro_units="deg/s",
+                       accel_units="g", rate=100)
+    # the right units: no word
+    p = _csv(tmp_path / "ok.csv", [accel, gyro])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        R.read_generic(p, gyro_columns=[3, 4, 5], accel_columns=[0, 1, 2], gyro_units="deg/s",
+                       accel_units="g", rate=100)
+
+
+def test_generic_reader_examples():
+    import doctest
+
+    result = doctest.testmod(R, optionflags=doctest.ELLIPSIS)
+    assert result.attempted >= 5 and result.failed == 0
+    assert rtklib.imu_times is R.imu_times

@@ -4,14 +4,16 @@ Modules: :mod:`~imunav.strapdown.scan` (the blocked quaternion scan kernels),
 :mod:`~imunav.strapdown.classic` (textbook, coning/sculling and multi-sample algorithms),
 :mod:`~imunav.strapdown.highorder` (local polynomial fits + Magnus), :mod:`~imunav.strapdown.reference`
 (plain loops: test oracles and the compiled benchmark baseline), :mod:`~imunav.strapdown.alignment`
-(levelling and static biases), :mod:`~imunav.strapdown.rotating` (the navigation-frame side on the
-rotating WGS-84 Earth: :class:`EarthIntegrator`), :mod:`~imunav.strapdown.registry`
-(:data:`ALGORITHMS`, :func:`navigate`, flat or ``earth="wgs84"``).
+(levelling and static biases), :mod:`~imunav.strapdown.initial` (the initial state from what a
+log gives: levelled at rest, heading from GNSS velocity), :mod:`~imunav.strapdown.rotating` (the
+navigation-frame side on the rotating WGS-84 Earth: :class:`EarthIntegrator`),
+:mod:`~imunav.strapdown.registry` (:data:`ALGORITHMS`, :func:`navigate`, flat or ``earth="wgs84"``).
 
 May import: ``imunav.core``, ``imunav.earth``, ``imunav.sensors.signals``.
 """
 
 from imunav.core.states import States
+from imunav.strapdown.initial import InitialState, gnss_alignment, static_alignment
 from imunav.strapdown.registry import (
     ALGORITHMS,
     DEFAULT_ALGORITHM,
@@ -27,7 +29,6 @@ from imunav.strapdown.scan import cumulative_product, exp_product, prefix_produc
 #: Former name of :class:`~imunav.core.states.States` for navigation output (kept as an alias).
 NavResult = States
 
-__all__ = ["ALGORITHMS", "DEFAULT_ALGORITHM", "Algorithm", "EarthIntegrator", "NavResult",
-           "StreamNavigator",
-           "cumulative_product",
-           "exp_product", "navigate", "navigate_batch", "prefix_product", "resolve"]
+__all__ = ["ALGORITHMS", "DEFAULT_ALGORITHM", "Algorithm", "EarthIntegrator", "InitialState",
+           "NavResult", "StreamNavigator", "cumulative_product", "exp_product", "gnss_alignment",
+           "navigate", "navigate_batch", "prefix_product", "resolve", "static_alignment"]
