@@ -1,7 +1,8 @@
 """Command line: ``imunav simulate | navigate | filter | assess | design | allan | reproduce``
 (also ``python -m imunav``).
 
-Exit status: 0 done; 1 ``assess --check`` found the IMU NOT SUITABLE; 2 a usage or input error,
+Exit status: 0 done; 1 a failed ``--check`` (``assess``: the IMU NOT SUITABLE; ``filter``: a health
+warning fired); 2 a usage or input error,
 with one line ``imunav: error: …`` naming the argument, file, row or law and what was expected;
 70 an internal error (a bug: one line, ``IMUNAV_DEBUG=1`` shows the traceback); 130/143
 interrupted or terminated. Numeric warnings never reach the terminal. No output
@@ -35,6 +36,7 @@ from imunav.core.validation import ImunavError, check_positive
 from imunav.earth import check_origin
 from imunav.estimation.alignment import ALIGNMENTS, WINDOW
 from imunav.estimation.filters import SD_COLUMNS, run_filter
+from imunav.estimation.health import assess_health
 from imunav.io import realdata
 from imunav.io.aiding import (
     check_span,
@@ -140,8 +142,8 @@ def _integer(name, minimum):
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of every command (``imunav --help``)."""
     p = _Parser(prog="imunav", description=__doc__.splitlines()[0],
-                epilog="exit status: 0 done, 1 assess --check found NOT SUITABLE, 2 usage or "
-                       "input error, 70 internal error")
+                epilog="exit status: 0 done, 1 a failed --check (assess: NOT SUITABLE; "
+                       "filter: a health warning), 2 usage or input error, 70 internal error")
     p.add_argument("--version", action="version",
                    version=f"imunav {importlib.metadata.version('imunav')}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -213,7 +215,18 @@ def build_parser() -> argparse.ArgumentParser:
     f.add_argument("--algorithm", choices=names, metavar="NAME",
                    help="strapdown algorithm; default the most accurate for the kind")
     f.add_argument("--gate", type=_probability("--gate"), default=0.9999, metavar="P",
-                   help="χ² innovation gate probability (default 0.9999; 1: no gate)")
+                   help="χ² innovation gate probability: a reading whose innovation is less "
+                        "likely than this is not used (default 0.9999; 1: no gate)")
+    f.add_argument("--recover", type=_integer("--recover", 0), default=5, metavar="N",
+                   help="after N consecutive readings of one aid rejected by the gate, use the "
+                        "next one with the covariance inflated until it is plausible, and warn "
+                        "(default 5; 0: never)")
+    f.add_argument("--report", metavar="FILE.json",
+                   help="write each aid's health (readings used and gated, the longest run of "
+                        "rejections, re-admissions, NIS and autocorrelation against their "
+                        "bands) and the warnings")
+    f.add_argument("--check", action="store_true",
+                   help="exit 1 when any health warning fires")
     f.add_argument("--covariance-step", type=_positive("--covariance-step"), default=0.1,
                    metavar="S", help="longest covariance step (s, default 0.1)")
     f.add_argument("--g", type=_positive("--g"), metavar="G", help="gravity (m/s²), 9.80665")
@@ -474,7 +487,7 @@ def cmd_filter(args) -> int:
     """``imunav filter``: the aided filter (or smoother) of a signals CSV and its aiding readings."""
     model, imu_files = _imu(args.imu)
     inputs = [args.signals, args.initial, args.aiding, args.measurements, *imu_files]
-    out = check_outputs({"--out": args.out}, inputs)
+    out = check_outputs({"--out": args.out, "--report": args.report}, inputs)
     aiding = AidingConfig.from_toml(args.aiding)
     if not aiding.sensors:
         raise ImunavError(f"--aiding {args.aiding} has no aiding sensor ({_tables()})")
@@ -511,7 +524,7 @@ def cmd_filter(args) -> int:
     res = run_filter(sig, q0, v0, p0, aiding, data, imu=model, algorithm=args.algorithm,
                      covariance_step=args.covariance_step,
                      gate=None if args.gate >= 1 else args.gate, smooth=args.smooth,
-                     earth=args.earth)
+                     earth=args.earth, recover=args.recover or None)
     r = res.smoothed if args.smooth else res
     st = r.states
     with CsvWriter(out["--out"], STATE_HEADERS[args.earth] + SD_COLUMNS) as w:
@@ -521,37 +534,48 @@ def cmd_filter(args) -> int:
     what = "smoothed " if args.smooth else ""
     print(f"wrote {len(st.t)} {what}navigation rows ({st.algorithm}, {len(res.layout)} state "
           f"blocks, {res.estimates.shape[1] + 9} error states) to {args.out}")
-    print(format_innovations(res.innovations))
-    return 0
+    print(format_innovations(res.innovations, res.health))
+    if args.report:
+        write_json({**res.health.as_dict(), "warnings": list(res.warnings),
+                    "gate": None if args.gate >= 1 else args.gate, "recover": args.recover},
+                   out["--report"])
+    return 1 if args.check and res.health.warnings else 0
 
 
-def format_innovations(innovations: dict) -> str:
-    """The innovation statistics per sensor, as ``imunav filter`` prints them.
+def format_innovations(innovations: dict, health=None) -> str:
+    """Each aid's innovations and health, as ``imunav filter`` prints them.
 
     Parameters
     ----------
     innovations : dict
-        ``{sensor: Innovations}`` of a filter result.
+        ``{aid: Innovations}`` of a filter result.
+    health : Health, optional
+        Its health (:mod:`imunav.estimation.health`; default computed from the innovations).
 
     Returns
     -------
     str
     """
-    lines = ["innovations (predicted − measured):",
-             f"  {'sensor':8} {'readings':>8} {'rejected':>8} {'mean NIS':>9} {'dof':>3} "
-             f"{'lag-1 ρ':>8} {'95% band':>9}  rms per component"]
+    health = health or assess_health(innovations)
+    lines = ["innovations (predicted − measured) and each aid's health:",
+             f"  {'aid':9} {'readings':>8} {'used':>7} {'gated':>7} {'longest':>8} "
+             f"{'mean NIS':>9} {'band':>13} {'lag-1 ρ':>8} {'band':>7}  rms per component"]
     for name, inn in innovations.items():
-        st = inn.stats()
-        if not st["readings"]:
-            lines.append(f"  {name:8} {0:>8} {0:>8}")
+        h = health.aids[name]
+        if not h["readings"]:
+            lines.append(f"  {name:9} {0:>8} {0:>7} {0:>7}")
             continue
-        rho = np.asarray(st["lag1"], dtype=float)
-        worst = float(rho[np.nanargmax(np.abs(rho))]) if np.isfinite(rho).any() else float("nan")
-        band = 1.96 / np.sqrt(max(1, st["readings"] - st["rejected"]))
+        st = inn.stats()
+        gated = f"{100 * h['gated_share']:.3g}%"
+        longest = f"{h['longest_rejection_s']:.3g} s" if h["longest_rejection_run"] else "–"
+        band = "[{:.3g}, {:.3g}]".format(*h["nis_band"])
+        rho = [r for r in (h["lag1"] or []) if r is not None]
+        worst = max(rho, key=abs) if rho else float("nan")
+        lag_band = f"±{h['lag1_band']:.3g}" if h["lag1_band"] is not None else "–"
         units = inn.units or ("",) * st["dof"]
         rms = ", ".join(f"{v:.3g} {u}" for v, u in zip(st["rms"], units, strict=False))
-        lines.append(f"  {name:8} {st['readings']:>8} {st['rejected']:>8} "
-                     f"{st['mean_nis']:>9.3f} {st['dof']:>3} {worst:>8.3f} {band:>9.3f}  {rms}")
+        lines.append(f"  {name:9} {h['readings']:>8} {h['used']:>7} {gated:>7} {longest:>8} "
+                     f"{h['mean_nis']:>9.3g} {band:>13} {worst:>8.3f} {lag_band:>7}  {rms}")
     return "\n".join(lines)
 
 
@@ -860,7 +884,7 @@ FLAGS = {"imu": "--imu", "smoothing": "--smoothing", "attitude_smoothing": "--at
          "measurements": "--measurements", "covariance_step": "--covariance-step",
          "gate": "--gate", "origin": "--origin", "earth": "--earth", "g": "--g",
          "alignment": "--alignment", "align_window": "--align-window",
-         "aiding": "--aiding", "outage_start": "--outage-start"}
+         "aiding": "--aiding", "outage_start": "--outage-start", "recover": "--recover"}
 
 
 def flagged(exc: ImunavError) -> str:

@@ -126,7 +126,7 @@ def test_gnss_outlier_of_100_m_is_rejected(sim, tmp_path, capsys):
         gnss = next(line for line in out.splitlines() if line.strip().startswith("gnss"))
         runs[case] = (gnss.split()[1:3], np.loadtxt(sim / f"{case}.csv", delimiter=",",
                                                     skiprows=1))
-    assert runs["outlier"][0] == ["60", "1"] and runs["removed"][0] == ["59", "0"]
+    assert runs["outlier"][0] == ["60", "59"] and runs["removed"][0] == ["59", "59"]  # readings, used
     np.testing.assert_allclose(runs["outlier"][1], runs["removed"][1], rtol=0, atol=1e-9)
     motion, _, _ = load_motion(ROUTE)
     k = 31 * 50

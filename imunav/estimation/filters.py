@@ -57,8 +57,10 @@ from imunav.core.threads import limit_blas
 from imunav.core.validation import ImunavError, as_float_array, check_positive
 from imunav.earth import gravitation_gradient
 from imunav.estimation.error_model import EARTH, FLAT, FlatErrorModel, Trajectory, local_error_map
+from imunav.estimation.health import assess_health
 from imunav.estimation.inertial import EarthSide, inject_local
 from imunav.estimation.kalman import predict_blocks, update_batch
+from imunav.estimation.results import SD_COLUMNS, BatchResult, FilterResult, Innovations, nav_sd
 from imunav.estimation.schedule import Schedule, step_length
 from imunav.estimation.smoother import smooth_history
 from imunav.estimation.system import AidedSystem
@@ -70,7 +72,6 @@ from imunav.sensors.aids import (
     InitialConfig,
     NavPoint,
     aids_from,
-    euler_jacobian,
 )
 from imunav.sensors.models import ImuModel
 from imunav.sensors.signals import ImuSignals
@@ -78,207 +79,6 @@ from imunav.strapdown.registry import resolve
 
 __all__ = ["SD_COLUMNS", "BatchResult", "FilterResult", "Innovations", "nav_sd", "run_filter",
            "run_filter_batch", "run_smoother"]
-
-#: The standard-deviation columns of the filter's output, in order (m, m/s, rad).
-SD_COLUMNS = ("sd_pn", "sd_pe", "sd_pd", "sd_vn", "sd_ve", "sd_vd", "sd_roll", "sd_pitch",
-              "sd_yaw")
-
-
-# ----------------------------------------------------------------------------- results
-
-@dataclass
-class Innovations:
-    """One aid's innovations over a run.
-
-    Attributes
-    ----------
-    name : str
-    t : ndarray, shape (k,)
-        Reading times (s).
-    innovation : ndarray, shape (k, m)
-        ``predicted − measured``.
-    S : ndarray, shape (k, m, m)
-        Their covariances ``H P Hᵀ + R``.
-    nis : ndarray, shape (k,)
-        ``νᵀ S⁻¹ ν``.
-    accepted : ndarray of bool, shape (k,)
-        False where the gate rejected the reading.
-    units : tuple of str
-        The components' units (empty if unknown).
-    """
-
-    name: str
-    t: FloatArray
-    innovation: FloatArray
-    S: FloatArray
-    nis: FloatArray
-    accepted: np.ndarray
-    units: tuple = ()
-
-    @property
-    def normalised(self) -> FloatArray:
-        """Whitened innovations ``L⁻¹ ν`` (``S = L Lᵀ``): independent N(0, 1) components for a
-        consistent filter.
-
-        Returns
-        -------
-        ndarray, shape (k, m)
-        """
-        if not len(self.t):
-            return np.zeros_like(self.innovation)
-        L = np.linalg.cholesky(self.S)
-        return np.linalg.solve(L, self.innovation[..., None])[..., 0]
-
-    def lag1(self) -> FloatArray:
-        """Lag-1 autocorrelation of each whitened component over the accepted readings.
-
-        Returns
-        -------
-        ndarray, shape (m,)
-            NaN with fewer than 3 readings.
-        """
-        z = self.normalised[self.accepted]
-        if z.shape[0] < 3:
-            return np.full(self.innovation.shape[1], np.nan)
-        z = z - z.mean(axis=0)
-        return (z[1:] * z[:-1]).sum(axis=0) / (z * z).sum(axis=0)
-
-    def stats(self) -> dict:
-        """The statistics ``imunav filter`` prints.
-
-        Returns
-        -------
-        dict
-            ``readings``, ``rejected``, ``dof``, ``mean_nis`` (expected ``dof``), ``rms``
-            (per component), ``lag1`` (per component; 95 % band ``±1.96/√readings``).
-        """
-        acc = self.accepted
-        return {"readings": int(len(self.t)), "rejected": int((~acc).sum()),
-                "dof": int(self.innovation.shape[1]),
-                "mean_nis": float(self.nis[acc].mean()) if acc.any() else float("nan"),
-                "rms": np.sqrt((self.innovation[acc] ** 2).mean(axis=0)).tolist()
-                if acc.any() else [],
-                "lag1": self.lag1().tolist()}
-
-
-@dataclass
-class FilterResult:
-    """What the filter (or the smoother) estimated.
-
-    Attributes
-    ----------
-    states : States
-        The estimate at every IMU node (times ``signals.state_times()``).
-    sd : ndarray, shape (N + 1, 9)
-        Standard deviations :data:`SD_COLUMNS` (m, m/s, rad) at every node.
-    epochs : ndarray of int, shape (E,)
-        The covariance epochs (node indices).
-    P_nav : ndarray, shape (E, 9, 9)
-        The navigation-error covariance (``φ``, ``δv``, ``δp``) at each epoch (after its update);
-        on the Earth that of the local NED errors (``δp`` in metres north, east, down).
-    innovations : dict
-        ``{aid: Innovations}``.
-    estimates : ndarray, shape (E, n − 9)
-        The sensor and aid error estimates ``ŝ`` at each epoch.
-    layout : dict
-        The error state's blocks (:attr:`AidedSystem.layout`).
-    smoothed : FilterResult or None
-        The RTS smoother's result (same fields; its ``innovations`` and ``estimates`` are the
-        filter's).
-    warnings : list of str
-    """
-
-    states: States
-    sd: FloatArray
-    epochs: np.ndarray
-    P_nav: FloatArray
-    innovations: dict
-    estimates: FloatArray
-    layout: dict
-    smoothed: FilterResult | None = None
-    warnings: list = field(default_factory=list)
-
-    @property
-    def t(self) -> FloatArray:
-        """Node times (s).
-
-        Returns
-        -------
-        ndarray
-        """
-        return self.states.t
-
-
-@dataclass
-class BatchResult:
-    """What the filter estimated in each of R runs filtered at once (:func:`run_filter_batch`).
-
-    Attributes
-    ----------
-    t : ndarray, shape (N + 1,)
-        Node times (s).
-    quaternion : ndarray, shape (N + 1, R, 4)
-    velocity, position : ndarray, shape (N + 1, R, 3)
-        The estimates at every node (on the Earth: local NED, ``[lat, lon, h]``).
-    epochs : ndarray of int, shape (E,)
-        The covariance epochs (node indices).
-    P_nav : ndarray, shape (E, R, 9, 9)
-        The navigation-error covariance at each epoch after its readings (on the Earth: of the
-        local NED errors).
-    readings : dict
-        ``{aid: readings per run}``.
-    rejected : dict
-        ``{aid: (R,) readings the gate rejected}``.
-    algorithm : str
-    warnings : list of str
-    innovations : list of dict
-        Per run, ``{aid: Innovations}``.
-    results : list of FilterResult
-        The whole results of the first ``keep`` runs.
-    smoothed : dict or None
-        With ``smooth``: ``quaternion``, ``velocity``, ``position`` and ``P_nav`` of the
-        smoother.
-    frame : str
-    """
-
-    t: FloatArray
-    quaternion: FloatArray
-    velocity: FloatArray
-    position: FloatArray
-    epochs: np.ndarray
-    P_nav: FloatArray
-    readings: dict
-    rejected: dict
-    algorithm: str
-    warnings: list = field(default_factory=list)
-    innovations: list = field(default_factory=list)
-    results: list = field(default_factory=list)
-    smoothed: dict | None = None
-    frame: str = "flat"
-
-
-def nav_sd(P_nav: FloatArray, q: FloatArray) -> FloatArray:
-    """Standard deviations in the output's terms from navigation-error covariances.
-
-    Parameters
-    ----------
-    P_nav : ndarray, shape (..., 9, 9)
-        Covariance of ``φ``, ``δv``, ``δp``.
-    q : ndarray, shape (..., 4)
-        The attitude there (the Euler-angle σ depend on it).
-
-    Returns
-    -------
-    ndarray, shape (..., 9)
-        :data:`SD_COLUMNS`: north, east, down position; velocity; roll, pitch, yaw.
-    """
-    T = euler_jacobian(quat_to_dcm(q))                       # rows yaw, pitch, roll
-    Pe = T @ P_nav[..., PHI, PHI] @ np.swapaxes(T, -1, -2)
-    var = np.concatenate([np.diagonal(P_nav[..., DP, DP], axis1=-2, axis2=-1),
-                          np.diagonal(P_nav[..., DV, DV], axis1=-2, axis2=-1),
-                          np.diagonal(Pe, axis1=-2, axis2=-1)[..., ::-1]], axis=-1)
-    return np.sqrt(np.maximum(var, 0.0))
-
 
 # ----------------------------------------------------------------------------- the loop
 
@@ -334,6 +134,37 @@ def _linearisation(bounds, q_nodes, v_nodes, gw, aw, off, kind, h, g
     return traj, L.tolist()
 
 
+#: The largest inflation of the covariance at one re-admission, and the most re-admissions of
+#: one aid in one run (beyond them the aid stays locked out: its readings disagree with the run
+#: for good, and the warnings say so).
+MAX_INFLATION = 1e4
+MAX_READMISSIONS = 3
+
+
+def _inflation(P: FloatArray, H: FloatArray, R: FloatArray, nu: FloatArray) -> float:
+    """The factor on the whole error covariance that makes the innovation ``nu`` plausible —
+    its NIS down to its degrees of freedom — for a reading re-admitted after a lock-out:
+    bisection on ``log f`` in [0, ln 1e4] (the NIS falls as the covariance grows; a reading that
+    even ten thousand times the covariance cannot explain is admitted at that). The whole
+    covariance, not only the navigation errors': a filter that diverged has usually also
+    learnt a wrong sensor bias, which must be free to move again."""
+    m = nu.size
+    HPH = H @ P @ H.T
+
+    def nis(f):
+        return float(nu @ np.linalg.solve(f * HPH + R, nu))
+
+    if nis(1.0) <= m:
+        return 1.0
+    lo, hi = 0.0, np.log(MAX_INFLATION)
+    if nis(np.exp(hi)) > m:
+        return float(np.exp(hi))
+    for _ in range(40):
+        mid = (lo + hi) / 2
+        lo, hi = (mid, hi) if nis(np.exp(mid)) > m else (lo, mid)
+    return float(np.exp(hi))
+
+
 def _evaluate(m, nav: NavPoint, R: int) -> tuple[FloatArray, FloatArray]:
     """A measurement's prediction (R, m) and Jacobian (R, m, n) for R runs: in one call when
     the model takes batches, else run by run."""
@@ -387,7 +218,7 @@ class _Filter:
     """One loop over a record for R runs (see the module docstring)."""
 
     def __init__(self, sigs: list[ImuSignals], q0, v0, p0, aids: list[list[Aid]], *, imu,
-                 initial, algorithm, covariance_step, gate, model, earth, units):
+                 initial, algorithm, covariance_step, gate, model, earth, units, recover=5):
         s0 = sigs[0]
         R = self.R = len(sigs)
         self.algo = algo = resolve(s0.kind, algorithm)
@@ -439,6 +270,11 @@ class _Filter:
                 s = np.stack([run[i].sigma for run in aids], axis=1)
                 self.noise.append(s * s)                                 # (N_i, R, m)
         self.gate = None if gate is None or gate >= 1 else gate
+        self.recover = int(recover) if recover else 0
+        self.streak = [np.zeros(R, dtype=int) for _ in self.aids]
+        self.grace = [np.zeros(R, dtype=int) for _ in self.aids]
+        self.broken = [np.zeros(R, dtype=int) for _ in self.aids]
+        self.readmitted = [[[] for _ in range(R)] for _ in self.aids]
         self.m_cov = step_length(covariance_step, self.h, algo.align)
         n = self.system.n
         q = np.empty((N + 1, R, 4))
@@ -481,7 +317,27 @@ class _Filter:
             z = m.residual(pred, values)
             Rn = (m.noise() if self.noise[ai] is None else
                   self.noise[ai][j][:, :, None] * np.eye(m.size))
-            up = update_batch(x, P, z + np.einsum("rmn,rn->rm", H, x), H, Rn, gate=self.gate)
+            admit = None
+            if self.recover and self.gate is not None:
+                lock = (self.streak[ai] >= self.recover) & (
+                    np.array([len(x) for x in self.readmitted[ai]]) < MAX_READMISSIONS)
+                admit = self.grace[ai] > 0
+                if lock.any():
+                    P = P.copy()
+                    for r in np.nonzero(lock)[0]:
+                        Rr = Rn if Rn.ndim == 2 else Rn[r]
+                        f = _inflation(P[r], H[r], Rr, z[r])
+                        P[r] = f * P[r]
+                        self.readmitted[ai][r].append((float(self.t_nodes[k] + dt), f))
+                    admit = admit | lock
+                    self.grace[ai][lock] = self.recover + 1
+                self.grace[ai] = np.maximum(self.grace[ai] - 1, 0)
+                if not admit.any():
+                    admit = None
+            up = update_batch(x, P, z + np.einsum("rmn,rn->rm", H, x), H, Rn, gate=self.gate,
+                              admit=admit, robust=True)
+            self.broken[ai] += np.isnan(up.nis)
+            self.streak[ai] = np.where(up.accepted, 0, self.streak[ai] + 1)
             lg = self.logs
             lg.nu[ai][j], lg.S[ai][j], lg.nis[ai][j], lg.acc[ai][j] = (up.innovation, up.S,
                                                                       up.nis, up.accepted)
@@ -709,7 +565,8 @@ def run_filter(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike, p0: np
                measurements: list[Aid] | None = None, imu: ImuModel | None = None,
                initial: InitialConfig | None = None, algorithm: str | None = None,
                covariance_step: float = 0.1, gate: float | None = 0.9999, smooth: bool = False,
-               model: FlatErrorModel | None = None, earth: str = "flat") -> FilterResult:
+               model: FlatErrorModel | None = None, earth: str = "flat",
+               recover: int | None = 5) -> FilterResult:
     """Aided navigation: the error-state Kalman filter (and, with ``smooth``, the RTS smoother).
 
     Parameters
@@ -739,7 +596,8 @@ def run_filter(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike, p0: np
     covariance_step : float
         Longest covariance step (s), rounded to whole IMU intervals.
     gate : float or None
-        Probability of the χ² innovation gate (None: no gate).
+        Probability of the χ² innovation gate (None: no gate): a reading whose normalised
+        innovation squared exceeds the χ² quantile of this probability is not used.
     smooth : bool
         Also run the RTS smoother (``result.smoothed``).
     model : FlatErrorModel, optional
@@ -749,10 +607,19 @@ def run_filter(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike, p0: np
         m) [and NED velocity relative to the Earth], the barometer's the height above the
         ellipsoid, the states and standard deviations those of local NED (positions
         ``[lat, lon, h]``, σ in metres).
+    recover : int or None
+        The recovery from a lock-out, as fielded navigators have: after this many consecutive
+        readings of one aid rejected by the gate, the next one is used whatever its innovation,
+        the navigation covariance first inflated until that reading is plausible (its NIS down
+        to its degrees of freedom); reported in ``result.health`` and its warnings. None or 0:
+        no recovery (a filter that diverged keeps rejecting).
 
     Returns
     -------
     FilterResult
+        With ``health`` (:class:`~imunav.estimation.health.Health`: per aid the readings
+        used and gated, the longest run of rejections, the re-admissions, the NIS and the
+        innovations' autocorrelation against their bands) and its warnings in ``warnings``.
 
     Raises
     ------
@@ -768,9 +635,19 @@ def run_filter(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike, p0: np
         initial = aiding.initial if aiding is not None else None
     f = _Filter([signals], q0, v0, p0, [aids], imu=imu, initial=initial, algorithm=algorithm,
                 covariance_step=covariance_step, gate=gate, model=model, earth=earth,
-                units=units)
+                units=units, recover=recover)
     segs, x_last = f.run(smooth)
-    return _results(f, [0], segs, x_last, smooth)[0]
+    res = _results(f, [0], segs, x_last, smooth)[0]
+    res.health = assess_health(res.innovations, {a.name: f.readmitted[i][0]
+                                                 for i, a in enumerate(f.aids)},
+                               ideal_imu=imu is None or not f.system.sources)
+    res.warnings += res.health.warnings
+    for i, a in enumerate(f.aids):
+        if f.broken[i][0]:
+            res.warnings.append(f"{a.name}: {f.broken[i][0]} readings could not be used: the "
+                                "filter's covariance lost its meaning (a divergence); its "
+                                "estimate is not to be trusted")
+    return res
 
 
 def _results(f: _Filter, runs: list[int], segs, x_last, smooth: bool) -> list[FilterResult]:
@@ -824,8 +701,8 @@ def run_filter_batch(signals: list[ImuSignals], q0: npt.ArrayLike, v0: npt.Array
                      initial: InitialConfig | None = None, algorithm: str | None = None,
                      covariance_step: float = 0.1, gate: float | None = 0.9999,
                      smooth: bool = False, model: FlatErrorModel | None = None,
-                     earth: str = "flat", innovations: bool = False, keep: int = 0
-                     ) -> BatchResult:
+                     earth: str = "flat", innovations: bool = False, keep: int = 0,
+                     recover: int | None = 5) -> BatchResult:
     """:func:`run_filter` on R runs of one record at once — the same loop, every array with a
     run axis, each run with its own linearisation and its own χ² gate (what a Monte Carlo of
     the filter needs).
@@ -845,7 +722,7 @@ def run_filter_batch(signals: list[ImuSignals], q0: npt.ArrayLike, v0: npt.Array
         One per run.
     measurements : list of list of Aid, optional
         Per run, aids given directly (the same models and times in every run).
-    imu, initial, algorithm, covariance_step, gate, smooth, model, earth
+    imu, initial, algorithm, covariance_step, gate, smooth, model, earth, recover
         As :func:`run_filter`.
     innovations : bool
         Keep every run's innovations (:attr:`BatchResult.innovations`).
@@ -886,7 +763,7 @@ def run_filter_batch(signals: list[ImuSignals], q0: npt.ArrayLike, v0: npt.Array
         initial = aiding.initial if aiding is not None else None
     f = _Filter(signals, q0, v0, p0, per, imu=imu, initial=initial, algorithm=algorithm,
                 covariance_step=covariance_step, gate=gate, model=model, earth=earth,
-                units=units)
+                units=units, recover=recover)
     segs, x_last = f.run(smooth)
     ep, post, _, M_ep = f.epochs()
     st = f.st
@@ -894,8 +771,11 @@ def run_filter_batch(signals: list[ImuSignals], q0: npt.ArrayLike, v0: npt.Array
     counts = {a.name: int(lg.used[i].sum()) for i, a in enumerate(f.aids)}
     rejected = {a.name: (~lg.acc[i][lg.used[i]]).sum(axis=0).astype(int)
                 for i, a in enumerate(f.aids)}
+    readmitted = {a.name: np.array([len(f.readmitted[i][r]) for r in range(R)])
+                  for i, a in enumerate(f.aids)}
     out = BatchResult(f.t_nodes, st.q, st.v, st.p, ep, post, counts, rejected, f.algo.name,
                       list(f.system.warnings), frame=earth)
+    out.readmitted = readmitted
     if innovations:
         out.innovations = [lg.innovations(f.aids, f.units, r) for r in range(R)]
     if smooth:

@@ -312,7 +312,8 @@ class BatchUpdate:
 
 
 def update_batch(x: FloatArray, P: FloatArray, z: FloatArray, H: FloatArray, R: FloatArray,
-                 *, gate: float | None = None, admit: np.ndarray | None = None) -> BatchUpdate:
+                 *, gate: float | None = None, admit: np.ndarray | None = None,
+                 robust: bool = False) -> BatchUpdate:
     """One measurement update of ``R`` filters at once, each with its own gate.
 
     Parameters
@@ -328,11 +329,36 @@ def update_batch(x: FloatArray, P: FloatArray, z: FloatArray, H: FloatArray, R: 
         rejected (its filter unchanged).
     admit : ndarray of bool, shape (R,), optional
         Filters whose reading is used whatever its NIS (a recovery after a lock-out).
+    robust : bool
+        A filter whose ``S`` is not positive definite (a covariance ruined by a divergence)
+        keeps its state and covariance, its reading counted as rejected (``nis`` NaN), instead
+        of an error for all.
 
     Returns
     -------
     BatchUpdate
+
+    Raises
+    ------
+    ImunavError
+        If ``S`` is not positive definite (without ``robust``).
     """
+    if robust:
+        S0 = H @ P @ np.swapaxes(H, -1, -2) + R
+        S0 = 0.5 * (S0 + np.swapaxes(S0, -1, -2))
+        bad = ~np.all(np.linalg.eigvalsh(S0) > 0, axis=-1) | ~np.isfinite(S0).all(axis=(-2, -1))
+        if bad.any():
+            good = ~bad
+            out = BatchUpdate(x.copy(), P.copy(), np.full(z.shape, np.nan), S0,
+                              np.full(bad.shape, np.nan), np.zeros(bad.shape, dtype=bool))
+            if good.any():
+                Hg = H[good] if H.ndim == 3 else H
+                Rg = R[good] if R.ndim == 3 else R
+                u = update_batch(x[good], P[good], z[good], Hg, Rg, gate=gate,
+                                 admit=None if admit is None else admit[good])
+                out.x[good], out.P[good], out.innovation[good] = u.x, u.P, u.innovation
+                out.S[good], out.nis[good], out.accepted[good] = u.S, u.nis, u.accepted
+            return out
     K, S, HP = gain(P, H, R)
     nu = z - np.einsum("...mn,...n->...m", H, x)
     Sinv_nu = np.linalg.solve(S, nu[..., None])[..., 0]
