@@ -37,6 +37,7 @@ from imunav.earth import check_origin
 from imunav.estimation.alignment import ALIGNMENTS, WINDOW
 from imunav.estimation.filters import SD_COLUMNS, run_filter
 from imunav.estimation.health import assess_health
+from imunav.estimation.logs import filter_log, unknown_imu
 from imunav.io import realdata
 from imunav.io.aiding import (
     check_span,
@@ -61,10 +62,11 @@ from imunav.io.files import (
     write_text,
 )
 from imunav.io.paths import check_outputs
+from imunav.io.rtklib import gnss_readings, read_pos
 from imunav.motion.geodetic import EarthMotion
 from imunav.plotting import plot_allan
 from imunav.reproduce import format_table, reproduce_all
-from imunav.sensors.aids import AIDS, AidingConfig, simulate_aiding
+from imunav.sensors.aids import AIDS, AidingConfig, AidingData, simulate_aiding
 from imunav.sensors.allan import allan_fits
 from imunav.sensors.allan_report import format_allan, imu_toml
 from imunav.sensors.models import ImuModel
@@ -187,6 +189,10 @@ def build_parser() -> argparse.ArgumentParser:
     n.add_argument("--time-units", default="s", help="generic: s, ms or us")
     n.add_argument("--rate", type=_positive("--rate"), metavar="HZ",
                    help="generic without a time column: sample rate")
+    n.add_argument("--imu-tag", metavar="FILE.tag",
+                   help="generic: RTKLIB time tags of the log (times in GPST seconds)")
+    n.add_argument("--imu-time-offset", type=float, default=0.0, metavar="S",
+                   help="generic: seconds added to the time stamps")
     n.add_argument("--rest-window", type=_positive("--rest-window"), default=0.5, metavar="S",
                    help="recordings without --initial: seconds at rest used for the attitude")
     n.add_argument("--out", required=True, metavar="NAV.csv")
@@ -198,16 +204,55 @@ def build_parser() -> argparse.ArgumentParser:
                         "rotating Earth; --initial is then a t,lat,lon,alt,vn,ve,vd,… truth CSV)")
 
     f = sub.add_parser("filter", help="aided navigation: the error-state Kalman filter (and "
-                                      "RTS smoother) of SIGNALS.csv with the aiding readings")
-    f.add_argument("signals", metavar="SIGNALS.csv")
-    f.add_argument("--initial", required=True, metavar="TRUTH.csv",
-                   help="its first row is the initial state")
+                                      "RTS smoother) of an IMU record with its aids — a "
+                                      "simulated record with its truth, or a real log")
+    f.add_argument("signals", metavar="SIGNALS.csv",
+                   help="an imunav signals CSV, or a log with --format generic")
+    f.add_argument("--format", choices=("imunav", "generic"), default="imunav",
+                   help="generic: a CSV of any layout (with or without a header), read with the "
+                        "flags below")
+    f.add_argument("--gyro-columns", default="gx,gy,gz",
+                   help="generic: three column names or 0-based indices")
+    f.add_argument("--accel-columns", default="ax,ay,az",
+                   help="generic: three column names or 0-based indices")
+    f.add_argument("--gyro-units", default="rad/s", help="generic: rad/s or deg/s")
+    f.add_argument("--accel-units", default="m/s^2", help="generic: m/s^2 or g")
+    f.add_argument("--time-column", help="generic: time column (name or index; with --imu-tag "
+                                         "the IMU's counter); else --rate")
+    f.add_argument("--time-units", default="s", help="generic: s, ms or us")
+    f.add_argument("--rate", type=_positive("--rate"), metavar="HZ",
+                   help="generic without a time column: sample rate")
+    f.add_argument("--imu-tag", metavar="FILE.tag",
+                   help="RTKLIB time tags of the IMU log: its times become GPST seconds, the "
+                        "axis of an RTKLIB .pos solution")
+    f.add_argument("--imu-time-offset", metavar="S|auto",
+                   help="seconds added to the IMU's time stamps (after [mounting] "
+                        "time_offset); auto: the lag that lines the IMU's yaw rate up with the "
+                        "GNSS course rate")
+    f.add_argument("--initial", metavar="TRUTH.csv",
+                   help="start from the first row of a truth CSV (a simulated record); or "
+                        "--align")
+    f.add_argument("--align", choices=("static", "gnss"),
+                   help="start from what a log gives: static (levelled on the still start, "
+                        "heading 0, position 0 — a foot) or gnss (levelled, then the heading "
+                        "from the GNSS velocity once moving — a vehicle)")
+    f.add_argument("--still", type=_positive("--still"), metavar="S",
+                   help="with --align: the still start (s; default: until 2 s before the GNSS "
+                        "speed first exceeds 0.1 m/s with gnss, 1 s with static)")
+    f.add_argument("--noise", choices=("model", "rest"), default="model",
+                   help="with --align: the IMU model's white noise, or at least the noise "
+                        "measured on the still start (rest: a vehicle's vibration)")
     f.add_argument("--imu", metavar="PRESET|IMU.toml",
-                   help="the IMU model the filter assumes (default: ideal, no sensor states)")
+                   help="the IMU model the filter assumes (default: a stated model of an "
+                        "unknown IMU; 'ideal': no sensor-error states)")
     f.add_argument("--aiding", required=True, metavar="AIDING.toml",
-                   help="the aids' noise models (and [initial] uncertainty)")
-    f.add_argument("--measurements", required=True, metavar="DIR",
-                   help="folder with gnss.csv, baro.csv, heading.csv, nhc.csv, zupt.csv")
+                   help="the aids' noise models, the set-up ([mounting]) and the [initial] "
+                        "uncertainty")
+    f.add_argument("--measurements", metavar="DIR",
+                   help="folder with the aids' files (gnss.csv, baro.csv, …); not needed when "
+                        "no aid needs one")
+    f.add_argument("--gnss", metavar="FILE.pos",
+                   help="GNSS from an RTKLIB solution (instead of [gnss] file / gnss.csv)")
     f.add_argument("--out", required=True, metavar="NAV.csv",
                    help="navigation CSV plus " + ",".join(SD_COLUMNS))
     f.add_argument("--smooth", action="store_true",
@@ -484,9 +529,22 @@ def _check_aiding_out(folder: Path, aiding, inputs, outputs) -> None:
 
 
 def cmd_filter(args) -> int:
-    """``imunav filter``: the aided filter (or smoother) of a signals CSV and its aiding readings."""
+    """``imunav filter``: the aided filter (or smoother) of an IMU record and its aids."""
     model, imu_files = _imu(args.imu)
-    inputs = [args.signals, args.initial, args.aiding, args.measurements, *imu_files]
+    if (args.initial is None) == (args.align is None):
+        raise ImunavError("give --initial TRUTH.csv (a simulated record) or --align static|gnss "
+                          "(a log), one of them")
+    if args.align is None:
+        for opt, val in (("--still", args.still), ("--imu-time-offset", args.imu_time_offset),
+                         ("--gnss", args.gnss)):
+            if val is not None:
+                raise ImunavError(f"{opt} applies with --align (a log) only")
+        if args.noise != "model":
+            raise ImunavError("--noise applies with --align (a log) only")
+    if args.format == "imunav" and args.imu_tag:
+        raise ImunavError("--imu-tag applies with --format generic")
+    inputs = [args.signals, args.initial, args.aiding, args.measurements, args.imu_tag,
+              args.gnss, *imu_files]
     out = check_outputs({"--out": args.out, "--report": args.report}, inputs)
     aiding = AidingConfig.from_toml(args.aiding)
     if not aiding.sensors:
@@ -494,37 +552,53 @@ def cmd_filter(args) -> int:
     if args.earth == "wgs84" and args.g is not None:
         raise ImunavError("--g belongs to the flat frame: with --earth wgs84 gravity comes from "
                           "the normal gravity model")
-    sig = read_signals(args.signals, g=args.g)
+    if args.align is not None and args.earth != "flat":
+        raise ImunavError("--align runs the flat frame (a log's own tangent frame): drop "
+                          "--earth wgs84")
+    if model is None:
+        model = unknown_imu(aiding)
+        print(f"filter: no --imu given: the filter assumes the {model.name} (give --imu, or "
+              "--imu ideal for no sensor-error states)")
+    if args.format == "generic":
+        sig = _read_log(args)
+    else:
+        sig = read_signals(args.signals, g=args.g)
     _check_algorithm(sig.kind, args.algorithm)
-    init = read_initial_state(args.initial)
-    _check_initial_frame(args, init)
-    t_start = float(sig.state_times()[0])
-    if abs(init.t[0] - t_start) > 1e-6 / sig.rate + 1e-12 * abs(t_start):
-        raise ImunavError(f"--initial {args.initial} starts at t = {init.t[0]:.9g} s but the "
-                          f"signals start at t = {t_start:.9g} s")
-    data = read_aiding(args.measurements, aiding.sensors, args.earth)
-    t_end = float(sig.state_times()[-1])
-    check_span(args.measurements, data, t_start, t_end)
-    meas = Path(args.measurements)
-    if aiding.zupt and aiding.zupt.detector == "truth" and data.zupt is None:
-        raise ImunavError(f"[zupt] detector = \"truth\" needs {meas / 'zupt.csv'}"
-                          " (the stance intervals)")
-    if aiding.gnss and aiding.gnss.velocity_sigma and data.gnss.values.shape[1] == 3:
-        raise ImunavError(f"{meas / 'gnss.csv'} has no velocity columns, but --aiding "
-                          f"{args.aiding} sets [gnss] velocity_sigma: drop it, or give the "
-                          f"header {','.join(AIDS['gnss'].headers[args.earth][0])}")
+    init = None
+    if args.initial is not None:
+        init = read_initial_state(args.initial)
+        _check_initial_frame(args, init)
+    data, origin = _log_data(args, aiding, sig)
     n_rows = len(sig) + (1 if sig.kind == "increments" else 0)
     check_disk(out["--out"], n_rows * (ROW_BYTES["states"] + 9 * 24), "this filter's output")
-    detector = aiding.zupt.detector if aiding.zupt else None
-    for msg in unused_files(args.measurements, aiding.sensors, detector):  # after the refusals
-        print(f"imunav: warning: {msg} (--aiding {args.aiding})", file=sys.stderr)
-    if model is None:
-        print("filter: no --imu given: the filter assumes an ideal IMU (no sensor-error states)")
-    q0, v0, p0 = init.initial()
-    res = run_filter(sig, q0, v0, p0, aiding, data, imu=model, algorithm=args.algorithm,
-                     covariance_step=args.covariance_step,
-                     gate=None if args.gate >= 1 else args.gate, smooth=args.smooth,
-                     earth=args.earth, recover=args.recover or None)
+    gate = None if args.gate >= 1 else args.gate
+    if args.align is not None:
+        offset = args.imu_time_offset
+        if offset is not None and offset != "auto":
+            try:
+                offset = float(offset)
+            except ValueError:
+                raise ImunavError(f"--imu-time-offset must be a number of seconds or auto, got "
+                                  f"{offset!r}") from None
+        lr = filter_log(sig, aiding, data, imu=model, align=args.align,
+                        still_seconds=args.still if args.still is not None else "auto",
+                        noise=args.noise, time_offset=offset, smooth=args.smooth, gate=gate,
+                        recover=args.recover or None, covariance_step=args.covariance_step,
+                        algorithm=args.algorithm)
+        res = lr.result
+        for note in lr.notes + ([f"flat frame: NED from the first GNSS epoch used, "
+                                 f"{np.degrees(origin[0]):.8f}°, {np.degrees(origin[1]):.8f}°, "
+                                 f"{origin[2]:.3f} m"] if origin is not None else []):
+            print(f"filter: {note}")
+    else:
+        t_start = float(sig.state_times()[0])
+        if abs(init.t[0] - t_start) > 1e-6 / sig.rate + 1e-12 * abs(t_start):
+            raise ImunavError(f"--initial {args.initial} starts at t = {init.t[0]:.9g} s but "
+                              f"the signals start at t = {t_start:.9g} s")
+        q0, v0, p0 = init.initial()
+        res = run_filter(sig, q0, v0, p0, aiding, data, imu=model, algorithm=args.algorithm,
+                         covariance_step=args.covariance_step, gate=gate, smooth=args.smooth,
+                         earth=args.earth, recover=args.recover or None)
     r = res.smoothed if args.smooth else res
     st = r.states
     with CsvWriter(out["--out"], STATE_HEADERS[args.earth] + SD_COLUMNS) as w:
@@ -537,9 +611,69 @@ def cmd_filter(args) -> int:
     print(format_innovations(res.innovations, res.health))
     if args.report:
         write_json({**res.health.as_dict(), "warnings": list(res.warnings),
-                    "gate": None if args.gate >= 1 else args.gate, "recover": args.recover},
-                   out["--report"])
+                    "gate": gate, "recover": args.recover}, out["--report"])
     return 1 if args.check and res.health.warnings else 0
+
+
+def _read_log(args):
+    """--format generic (with --imu-tag): the log's IMU samples."""
+    cols = [c.strip() for c in args.gyro_columns.split(",")], \
+           [c.strip() for c in args.accel_columns.split(",")]
+    rec = realdata.read_generic(args.signals, gyro_columns=cols[0], accel_columns=cols[1],
+                                gyro_units=args.gyro_units, accel_units=args.accel_units,
+                                time_column=args.time_column, time_units=args.time_units,
+                                rate=args.rate, tag=args.imu_tag)
+    for w in getattr(rec, "warnings", []) or []:
+        print(f"imunav: warning: {w}", file=sys.stderr)
+    sig = rec.signals
+    if args.g is not None:
+        sig.g = args.g
+    return sig
+
+
+def _log_data(args, aiding, sig):
+    """The aids' readings: --gnss / [gnss] file (an RTKLIB solution), and --measurements.
+
+    Returns the data and, for an RTKLIB solution on the flat frame, its origin."""
+    data, origin = AidingData(), None
+    meas = Path(args.measurements) if args.measurements else None
+    pos = args.gnss
+    g = aiding.gnss
+    if pos is None and g is not None and g.file is not None:
+        pos = Path(args.aiding).parent / g.file
+    if pos is not None and g is None:
+        raise ImunavError(f"--gnss {pos} needs a [gnss] table in --aiding {args.aiding}")
+    need = [n for n in aiding.sensors
+            if AIDS[n].file_needed(aiding.get(n)) and not (n == "gnss" and pos is not None)]
+    if need and meas is None:
+        raise ImunavError(f"--aiding {args.aiding} has " + ", ".join(f"[{n}]" for n in need)
+                          + ": give --measurements DIR with "
+                          + ", ".join(AIDS[n].file for n in need))
+    if meas is not None:
+        names = [n for n in aiding.sensors if not (n == "gnss" and pos is not None)]
+        data = read_aiding(meas, names, args.earth, aiding)
+        t_start, t_end = float(sig.state_times()[0]), float(sig.state_times()[-1])
+        check_span(meas, data, t_start, t_end)
+        if aiding.zupt and aiding.zupt.detector == "truth" and data.zupt is None:
+            raise ImunavError(f"[zupt] detector = \"truth\" needs {meas / 'zupt.csv'}"
+                              " (the stance intervals)")
+        if aiding.gnss and pos is None and aiding.gnss.velocity_sigma and \
+                data.gnss.values.shape[1] == 3:
+            raise ImunavError(f"{meas / 'gnss.csv'} has no velocity columns, but --aiding "
+                              f"{args.aiding} sets [gnss] velocity_sigma: drop it, or give the "
+                              f"header {','.join(AIDS['gnss'].headers[args.earth][0])}")
+        detector = aiding.zupt.detector if aiding.zupt else None
+        for msg in unused_files(meas, aiding.sensors, detector):
+            print(f"imunav: warning: {msg} (--aiding {args.aiding})", file=sys.stderr)
+    if pos is not None:
+        sol = read_pos(pos)
+        readings, notes = gnss_readings(sol, g, frame=args.earth)
+        origin = sol.select(sol.quality <= g.min_quality).llh[0] if args.earth == "flat" \
+            else None
+        for n in notes:
+            print(f"filter: {pos}: {n}")
+        data.gnss = readings
+    return data, origin
 
 
 def format_innovations(innovations: dict, health=None) -> str:
@@ -790,7 +924,8 @@ def _read_recording(args, path=None):
         rec = realdata.read_generic(path, gyro_columns=cols[0], accel_columns=cols[1],
                                     gyro_units=args.gyro_units, accel_units=args.accel_units,
                                     time_column=args.time_column, time_units=args.time_units,
-                                    rate=args.rate)
+                                    rate=args.rate, tag=getattr(args, "imu_tag", None),
+                                    time_offset=getattr(args, "imu_time_offset", 0.0) or 0.0)
     if getattr(args, "g", None) is not None:
         rec.signals.g = args.g
     return rec.signals
@@ -884,7 +1019,12 @@ FLAGS = {"imu": "--imu", "smoothing": "--smoothing", "attitude_smoothing": "--at
          "measurements": "--measurements", "covariance_step": "--covariance-step",
          "gate": "--gate", "origin": "--origin", "earth": "--earth", "g": "--g",
          "alignment": "--alignment", "align_window": "--align-window",
-         "aiding": "--aiding", "outage_start": "--outage-start", "recover": "--recover"}
+         "aiding": "--aiding", "outage_start": "--outage-start", "recover": "--recover",
+         "align": "--align", "still_seconds": "--still", "noise": "--noise",
+         "time_offset": "--imu-time-offset", "gnss": "--gnss", "gyro_units": "--gyro-units",
+         "accel_units": "--accel-units", "gyro_columns": "--gyro-columns",
+         "accel_columns": "--accel-columns", "time_column": "--time-column",
+         "time_units": "--time-units", "tag": "--imu-tag"}
 
 
 def flagged(exc: ImunavError) -> str:

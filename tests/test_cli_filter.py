@@ -97,9 +97,15 @@ def test_smoothed_output_has_the_same_header_and_smaller_sigma(sim, capsys):
     assert s[1500, 11] < f[1500, 11]
 
 
-def test_filter_without_imu_says_it_assumes_ideal(sim, capsys):
-    assert _filter(sim, imu=(), out="ideal.csv") == 0
-    assert "no --imu given: the filter assumes an ideal IMU" in capsys.readouterr().out
+def test_filter_without_imu_assumes_a_stated_model_and_says_so(sim, capsys):
+    """Without --imu the filter no longer assumes an ideal IMU (every σ column 0 while the error
+    grows: issue 37): it assumes the stated model of an unknown IMU, says so, and its σ are
+    not zero; --imu ideal keeps the ideal model on request."""
+    assert _filter(sim, imu=(), out="unknown.csv") == 0
+    out = capsys.readouterr().out
+    assert "no --imu given: the filter assumes the unknown IMU" in out
+    nav = np.loadtxt(sim / "unknown.csv", delimiter=",", skiprows=1)
+    assert np.all(nav[1:, -9:-6] > 0)
 
 
 def test_gnss_outlier_of_100_m_is_rejected(sim, tmp_path, capsys):

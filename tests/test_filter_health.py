@@ -119,3 +119,60 @@ def test_a_long_run_of_rejections_is_timed():
     assert h.aids["x"]["longest_rejection_run"] == 12
     assert h.aids["x"]["longest_rejection_s"] == pytest.approx(12.0)
     assert any("12 consecutive readings" in w for w in h.warnings)
+
+
+# ----------------------------------------------------------------------------- a log from the CLI
+
+def _walk_log(tmp_path, seconds=40.0):
+    """A foot walk's IMU (ADIS16470 errors) written as a log of another layout: a header with
+    spaces and parentheses, degrees per second, g, milliseconds."""
+    from imunav.motion.foot import foot_walk
+
+    m = foot_walk(seconds)
+    sig = simulate_imu(m, 200.0, seconds, output="rates", imu=ImuModel.load("ADIS16470"), seed=4)
+    path = tmp_path / "walk.csv"
+    cols = np.column_stack([sig.t * 1000.0, np.degrees(sig.gyro), sig.accel / 9.80665])
+    header = "Time (ms),Gyro X (deg/s),Gyro Y (deg/s),Gyro Z (deg/s),Acc X (g),Acc Y (g),Acc Z (g)"
+    np.savetxt(path, cols, delimiter=",", header=header, comments="")
+    (tmp_path / "foot.toml").write_text('[zupt]\nsigma = 0.01\ndetector = "shoe"\n')
+    return m, sig, path
+
+
+def _log_args(tmp_path, path, **over):
+    args = {"--format": "generic", "--time-column": "Time (ms)", "--time-units": "ms",
+            "--gyro-columns": "Gyro X (deg/s),Gyro Y (deg/s),Gyro Z (deg/s)",
+            "--gyro-units": "deg/s", "--accel-columns": "Acc X (g),Acc Y (g),Acc Z (g)",
+            "--accel-units": "g", "--align": "static",
+            "--aiding": str(tmp_path / "foot.toml"), "--out": str(tmp_path / "nav.csv")}
+    args.update(over)
+    return ["filter", str(path)] + [x for k, v in args.items() for x in (k, v)]
+
+
+def test_a_foot_log_runs_from_the_cli_without_imu_or_measurements(tmp_path, capsys):
+    """issue 36: `imunav filter walk.csv --format generic … --align static --aiding foot.toml
+    --out nav.csv`: one row per input sample from the first (the still start included), starting
+    at 0 with heading 0, no --imu (the stated foot model), no --measurements; the walk ends
+    within 1 % of its path of the truth (rotated by the walk's initial heading, 0 here)."""
+    from imunav.cli import main
+
+    m, sig, path = _walk_log(tmp_path)
+    assert main(_log_args(tmp_path, path)) == 0
+    out = capsys.readouterr().out
+    assert "no --imu given" in out and "foot-mounted IMU" in out
+    nav = np.loadtxt(tmp_path / "nav.csv", delimiter=",", skiprows=1)
+    assert nav.shape[0] == len(sig)
+    np.testing.assert_allclose(nav[0, 0], sig.t[0], atol=1e-9)
+    np.testing.assert_allclose(nav[0, 1:4], 0.0, atol=1e-12)
+    truth = m.position(sig.t)
+    path_len = np.sum(np.linalg.norm(np.diff(truth[:, :2], axis=0), axis=1))
+    end = np.linalg.norm(nav[-1, 1:3] - (truth[-1, :2] - truth[0, :2]))
+    assert end <= 0.01 * path_len, (end, path_len)
+
+
+def test_a_log_read_in_the_wrong_units_is_refused_in_one_line(tmp_path, capsys):
+    from imunav.cli import main
+
+    _, _, path = _walk_log(tmp_path, 10.0)
+    assert main(_log_args(tmp_path, path, **{"--accel-units": "m/s^2"})) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--accel-units" in err[0], err

@@ -32,8 +32,10 @@ import numpy.typing as npt
 from imunav.core.kernels import FloatArray
 from imunav.core.validation import ImunavError, as_float_array
 from imunav.earth import ecef_to_ned, geodetic_to_ecef
+from imunav.sensors.aids import Readings
 
-__all__ = ["GPST_EPOCH", "PosSolution", "TAG_HEADER", "TimeTag", "imu_times", "read_pos",
+__all__ = ["GPST_EPOCH", "PosSolution", "TAG_HEADER", "TimeTag", "gnss_readings", "imu_times",
+           "velocity_lag", "read_pos",
            "read_tag"]
 
 #: The GPS time origin, 1980-01-06 00:00:00 GPST, in seconds since 1970-01-01 (calendar).
@@ -529,3 +531,104 @@ def imu_times(counter_ms: npt.ArrayLike, tag: TimeTag, delay: float = 0.0, *,
                       f"({(tag_span / span - 1) * 1e6:.0f} ppm apart): the counter is scaled "
                       "to the tag", stacklevel=2)
     return tag.start + (c - c[0]) * (tag_span / span) / 1000.0 + float(delay)
+
+
+def velocity_lag(t: FloatArray, position: FloatArray, velocity: FloatArray,
+                 max_lag: float = 0.5) -> float:
+    """How late a GNSS receiver stamps its velocity: the lag ``L`` that best matches the velocity
+    read at ``t + L`` with the central differences of its own positions (least squares on a
+    grid of 1 ms, horizontal components).
+
+    Parameters
+    ----------
+    t : ndarray, shape (n,)
+        Epochs (s).
+    position, velocity : ndarray, shape (n, 3)
+        NED (m, m/s).
+    max_lag : float
+        The lags searched: ±max_lag (s).
+
+    Returns
+    -------
+    float
+        Seconds (positive: the velocity is stamped late).
+    """
+    t = np.asarray(t, float)
+    dt = t[2:] - t[:-2]
+    ok = (dt > 0) & (dt < 4 * np.median(dt))
+    vfd = (position[2:, :2] - position[:-2, :2]) / dt[:, None]
+    tm = t[1:-1]
+    lags = np.arange(-max_lag, max_lag + 5e-4, 1e-3)
+    cost = []
+    for L in lags:
+        v = np.column_stack([np.interp(tm + L, t, velocity[:, j]) for j in range(2)])
+        inside = ok & (tm + L >= t[0]) & (tm + L <= t[-1])
+        cost.append(np.mean((v[inside] - vfd[inside]) ** 2))
+    return float(lags[int(np.argmin(cost))])
+
+
+def gnss_readings(sol: PosSolution, config, *, frame: str = "flat", origin=None
+                  ) -> tuple[Readings, list[str]]:
+    """The readings of ``[gnss]`` from an RTKLIB solution: the epochs of quality up to
+    ``min_quality``, each with its own σ (north, east, down from its covariance, times
+    ``float_scale`` for a float solution and ``single_scale`` for a single, DGPS or SBAS one;
+    never below ``position_sigma``/``velocity_sigma`` when those are given), the velocity read
+    ``velocity_delay`` later (``"auto"``: :func:`velocity_lag`).
+
+    Parameters
+    ----------
+    sol : PosSolution
+    config : GnssConfig
+    frame : {"flat", "wgs84"}
+        Positions as NED metres from ``origin`` (flat), or ``[lat, lon, h]`` (rad, rad, m).
+    origin : array_like, shape (3,), optional
+        ``(lat, lon, h)`` of the flat frame's origin (default the first epoch used).
+
+    Returns
+    -------
+    readings : Readings
+        ``x, y, z[, vx, vy, vz]`` with ``sigma``.
+    notes : list of str
+        What was dropped and estimated.
+
+    Raises
+    ------
+    ImunavError
+        For velocity asked of a solution without it, or no epoch of a usable quality.
+    """
+    notes = []
+    keep = sol.quality <= config.min_quality
+    if not keep.all():
+        notes.append(f"{int((~keep).sum())} of {len(sol)} epochs of quality above "
+                     f"{config.min_quality} not used")
+    if not keep.any():
+        raise ImunavError(f"{sol.path}: no epoch of quality up to min_quality = "
+                          f"{config.min_quality}", argument="gnss")
+    full = sol
+    sol = sol.select(keep)
+    scale = np.where(sol.quality == 1, 1.0, np.where(sol.quality == 2, config.float_scale,
+                                                     config.single_scale))
+    scale = np.where(sol.quality == 6, 1.0, scale)
+    pos = sol.ned(origin if origin is not None else sol.llh[0]) if frame == "flat" else sol.llh
+    sd = sol.position_sd * scale[:, None]
+    if config.position_sigma is not None:
+        sd = np.maximum(sd, config.position_sigma)
+    vals, sds = [pos], [sd]
+    if config.velocity_sigma is not None:
+        if sol.velocity is None:
+            raise ImunavError(f"{sol.path}: [gnss] velocity_sigma is set but the solution has "
+                              "no velocity columns", argument="gnss")
+        delay = config.velocity_delay
+        if delay == "auto":
+            delay = velocity_lag(full.t, full.ned(full.llh[0]), full.velocity)
+            notes.append(f"the receiver stamps its velocity {1000 * delay:.0f} ms late "
+                         "(from its own positions): read that much later")
+        vel = sol.velocity
+        if delay:
+            vel = np.column_stack([np.interp(sol.t + delay, full.t, full.velocity[:, j])
+                                   for j in range(3)])
+        vsd = sol.velocity_sd * scale[:, None]
+        vsd = np.maximum(vsd, config.velocity_sigma)
+        vals.append(vel)
+        sds.append(vsd)
+    return Readings(sol.t, np.concatenate(vals, axis=1), np.concatenate(sds, axis=1)), notes

@@ -125,9 +125,10 @@ class Key:
         The SI unit it is written in (``""``: a plain number).
     doc : str
         What it is (one line: the file-format page is generated from these).
-    kind : {"number", "angle", "integer", "vector", "intervals", "choice"}
+    kind : {"number", "angle", "integer", "vector", "intervals", "choice", "path", "delay"}
         A finite number; an angle (a number in rad, or a string with its unit, ``"2 deg"``);
-        a whole number; a list of three numbers; a list of ``[t0, t1]``; one of ``choices``.
+        a whole number; a list of three numbers; a list of ``[t0, t1]``; one of ``choices``;
+        a file name; a signed number of seconds or ``"auto"``.
     required : bool
     default : object
         When absent (and not required).
@@ -195,6 +196,17 @@ class Key:
             return tuple(float(x) for x in raw)
         if self.kind == "intervals":
             return _intervals(raw, name, self.hi)
+        if self.kind == "path":
+            if not isinstance(raw, str) or not raw.strip() or "\x00" in raw:
+                raise ImunavError(f"{name} must be a file name (a string), got {show(raw)}")
+            return raw
+        if self.kind == "delay":
+            if raw == "auto":
+                return raw
+            if not _real(raw) or not abs(raw) <= 10.0:
+                raise ImunavError(f'{name} must be a number of seconds within ±10 or "auto", '
+                                  f"got {show(raw)}")
+            return float(raw)
         v = raw
         if self.kind == "angle" and isinstance(v, str):
             v = _angle(v, name)

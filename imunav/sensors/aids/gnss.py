@@ -17,6 +17,7 @@ May import: ``imunav.core``, ``imunav.earth``, ``imunav.motion``, ``imunav.senso
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -64,21 +65,40 @@ class GnssConfig(TableConfig):
         How the filter treats the correlated error: as three Gauss–Markov states of its own, or
         as white noise (its variance added to ``position_sigma²``) — the simulation draws it
         correlated either way.
+    file : str or None
+        A GNSS solution to read instead of ``gnss.csv`` (``--gnss``), relative to the
+        ``AIDING.toml``.
+    format : {"csv", "rtklib"}
+        Its format: an RTKLIB ``.pos`` gives each epoch's own σ (``position_sigma`` and
+        ``velocity_sigma`` are then optional floors), scaled by ``float_scale`` for a float
+        solution and ``single_scale`` for a single, DGPS or SBAS one.
+    float_scale, single_scale : float
+    min_quality : int
+        The worst RTKLIB quality used (1 fixed, 2 float, 3 SBAS, 4 DGPS, 5 single, 6 PPP).
+    velocity_delay : float or "auto"
+        Seconds the receiver stamps its velocity late (its readings are taken that much later);
+        ``"auto"``: estimated from the solution's own positions.
     """
 
     rate: float
-    position_sigma: float
+    position_sigma: float | None
     velocity_sigma: float | None = None
     correlated_sigma: float = 0.0
     correlation_time: float | None = None
     lever_arm: tuple[float, float, float] = (0.0, 0.0, 0.0)
     outages: tuple[tuple[float, float], ...] = ()
     correlated_model: str = "state"
+    file: str | None = None
+    format: str = "csv"
+    float_scale: float = 10.0
+    single_scale: float = 100.0
+    min_quality: int = 6
+    velocity_delay: float | str = 0.0
 
     TABLE = "gnss"
     FIELDS = (
         Key("rate", "Hz", "GNSS rate", required=True, hi=100.0),
-        Key("position_sigma", "m", "GNSS position σ", required=True, hi=1e4),
+        Key("position_sigma", "m", "GNSS position σ", hi=1e4),
         Key("velocity_sigma", "m/s", "GNSS velocity σ", hi=100.0),
         Key("correlated_sigma", "m", "correlated position σ", default=0.0, positive=False,
             hi=1e4),
@@ -88,6 +108,17 @@ class GnssConfig(TableConfig):
         Key("outages", "s", "outage", kind="intervals", default=()),
         Key("correlated_model", "", "treatment of the correlated error", kind="choice",
             default="state", choices=("state", "white")),
+        Key("file", "", "GNSS solution file (relative to the AIDING.toml)", kind="path"),
+        Key("format", "", "the file's format", kind="choice", default="csv",
+            choices=("csv", "rtklib")),
+        Key("float_scale", "", "σ factor of a float solution (RTKLIB Q = 2)", default=10.0,
+            hi=1e6),
+        Key("single_scale", "", "σ factor of a single/DGPS/SBAS solution (Q ≥ 3)",
+            default=100.0, hi=1e6),
+        Key("min_quality", "", "the worst RTKLIB quality used (1 fixed, 2 float, … 6 PPP)",
+            kind="integer", default=6, hi=6),
+        Key("velocity_delay", "s", "how late the receiver stamps its velocity (or \"auto\")",
+            kind="delay", default=0.0),
     )
 
     #: How the filter may treat the correlated error.
@@ -107,9 +138,10 @@ class GnssConfig(TableConfig):
         """
         if self.correlated_sigma > 0 and self.correlation_time is None:
             raise ImunavError("[gnss] correlated_sigma needs correlation_time (s)")
+        if self.position_sigma is None and self.format != "rtklib":
+            raise ImunavError("[gnss] position_sigma (m) is required")
         if self.correlated_sigma == 0 and self.correlation_time is not None:
-            return GnssConfig(self.rate, self.position_sigma, self.velocity_sigma, 0.0, None,
-                              self.lever_arm, self.outages, self.correlated_model)
+            return dataclasses.replace(self, correlation_time=None)
         return self
 
     def check_within(self, start: float, end: float) -> None:
@@ -250,6 +282,10 @@ class Gnss(AidSpec):
 
     def measurement(self, config, *, truth=False):
         g = config
+        if g.position_sigma is None:                 # each epoch's own σ (Aid.sigma)
+            g = dataclasses.replace(g, position_sigma=1.0,
+                                    velocity_sigma=1.0 if g.velocity_sigma is None else
+                                    g.velocity_sigma)
         if g.correlated_model == "white" and g.correlated_sigma > 0 and not truth:
             # the correlated error treated as white: its variance added, no states
             return GnssFix(float(np.hypot(g.position_sigma, g.correlated_sigma)),

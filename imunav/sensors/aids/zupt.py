@@ -1,10 +1,22 @@
 """Zero-velocity updates during stance, the stance found by the truth or by the SHOE detector
 on the IMU data (Skog et al. 2010, as OpenShoe).
 
-``[zupt]`` of ``AIDING.toml``: ``sigma`` (m/s), ``detector = "truth" | "shoe"``, ``window``
-(samples, default 3) and ``threshold`` (default 3e4) of the SHOE detector. With ``truth`` the
-stance intervals are read from ``zupt.csv`` (``t0,t1``); with ``shoe`` no file is needed. The
-filter applies the update ``v = 0`` at every IMU node inside a stance interval.
+``[zupt]`` of ``AIDING.toml``: ``sigma`` (m/s), ``detector = "truth" | "shoe"``, and the SHOE
+detector's ``window`` (samples, default 3). With ``truth`` the stance intervals are read from
+``zupt.csv`` (``t0,t1``); with ``shoe`` no file is needed. The filter applies the update
+``v = 0`` at every IMU node inside a stance interval.
+
+**The SHOE detector's one parameter set** (the defaults; nothing chosen against a truth): the
+statistic's noise levels follow from what a zero-velocity update of σ_z = ``sigma`` allows —
+σ_a = σ_z/(W h) (a specific force that changes the velocity by σ_z over the window of W
+samples) and σ_g = σ_z/r with r = ``lever`` (0.1 m: a foot rolling about its ground contact
+moves the IMU at ω r) —, stance where W·T lies below the χ² quantile of ``probability`` (0.99)
+with 6W − 2 degrees of freedom (the statistic at rest when the foot moves no more than the update
+assumes); and, with ``stride`` (1.2 s: the longest stride of a walk), the sample whose
+statistic is the smallest of its centred stride window is stance too — a walking or running
+foot stands still once in every stride, even where it rolls faster than the χ² threshold
+allows. An explicit ``threshold`` instead gives the classic detector of Skog et al. (2010) with
+OpenShoe's noise levels (σ_a 0.01 m/s², σ_g 0.1 °/s) and no stride rule.
 
 May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors.aids.base``.
 """
@@ -15,6 +27,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
+from scipy.ndimage import minimum_filter1d
+from scipy.stats import chi2
 
 from imunav.core.constants import DEG, G0
 from imunav.core.kernels import FloatArray
@@ -23,7 +37,7 @@ from imunav.core.validation import ImunavError
 from imunav.sensors.aids.base import AidSpec, Key, Measurement, Readings, TableConfig, register
 
 __all__ = ["SHOE_SIGMA_A", "SHOE_SIGMA_G", "STANCE_SPEED", "Zupt", "ZuptConfig", "intervals_of",
-           "nodes_within", "shoe_intervals", "shoe_statistic", "true_stance"]
+           "nodes_within", "shoe_intervals", "shoe_statistic", "stance_flags", "true_stance"]
 
 #: The SHOE detector's noise levels (OpenShoe's defaults, Skog et al. 2010): accelerometer
 #: 0.01 m/s², gyro 0.1 °/s.
@@ -46,21 +60,35 @@ class ZuptConfig(TableConfig):
         The stance intervals of the motion (``zupt.csv``), or the SHOE detector on the IMU data.
     window : int
         SHOE window (samples).
-    threshold : float
-        SHOE threshold: stance where the statistic is below it.
+    threshold : float or None
+        The classic SHOE threshold (OpenShoe's noise levels); None: the χ² rule below.
+    lever : float
+        The foot's rolling lever (m): σ_g = sigma / lever.
+    probability : float
+        The χ² threshold's probability.
+    stride : float
+        The longest stride (s): one stance per stride window (0: none).
     """
 
     sigma: float
     detector: str = "truth"
     window: int = 3
-    threshold: float = 3e4
+    threshold: float | None = None
+    lever: float = 0.1
+    probability: float = 0.99
+    stride: float = 1.2
 
     TABLE = "zupt"
     FIELDS = (Key("sigma", "m/s", "zero-velocity σ", required=True, hi=10.0),
               Key("detector", "", "stance detector", kind="choice", default="truth",
                   choices=("truth", "shoe")),
               Key("window", "samples", "SHOE window", kind="integer", default=3, hi=10000),
-              Key("threshold", "", "SHOE threshold", default=3e4, hi=1e15))
+              Key("threshold", "", "SHOE threshold (the classic detector)", hi=1e15),
+              Key("lever", "m", "foot contact lever", default=0.1, hi=2.0),
+              Key("probability", "", "stance probability of the χ² threshold", default=0.99,
+                  hi=1.0 - 1e-12),
+              Key("stride", "s", "longest stride (0: no stride rule)", default=1.2,
+                  positive=False, hi=10.0))
 
 
 class Zupt(Measurement):
@@ -195,9 +223,47 @@ def shoe_statistic(gyro: FloatArray, accel: FloatArray, *, g: float = G0, window
     return out
 
 
+def stance_flags(gyro: FloatArray, accel: FloatArray, rate: float, *, sigma: float,
+                 g: float = G0, window: int = 3, lever: float = 0.1, probability: float = 0.99,
+                 stride: float = 1.2) -> np.ndarray:
+    """Stance at each sample by the SHOE statistic with the noise levels a zero-velocity update
+    of σ = ``sigma`` allows and its χ² threshold, plus one stance per stride (see the module
+    docstring).
+
+    Parameters
+    ----------
+    gyro, accel : ndarray, shape (n, 3)
+        Rate samples (rad/s, m/s²).
+    rate : float
+        Hz.
+    sigma : float
+        The update's σ (m/s).
+    g : float
+    window : int
+    lever, probability, stride : float
+
+    Returns
+    -------
+    ndarray of bool, shape (n,)
+    """
+    W = max(1, int(window))
+    T = shoe_statistic(gyro, accel, g=g, window=W, sigma_a=sigma * rate / W,
+                       sigma_g=sigma / lever)
+    flags = T < chi2.ppf(probability, 6 * W - 2) / W
+    n = int(round(stride * rate))
+    if n >= 3:
+        smallest = T <= minimum_filter1d(T, n, mode="nearest")
+        near = smallest.copy()
+        for k in (1, 2):                       # ± 2 samples around the stride's quietest one
+            near[k:] |= smallest[:-k]
+            near[:-k] |= smallest[k:]
+        flags |= near
+    return flags
+
+
 def shoe_intervals(t: FloatArray, gyro: FloatArray, accel: FloatArray, *, g: float = G0,
                    window: int = 3, threshold: float = 3e4) -> FloatArray:
-    """Stance intervals by the SHOE detector.
+    """Stance intervals by the classic SHOE detector (OpenShoe's noise levels).
 
     Parameters
     ----------
@@ -273,8 +339,13 @@ class ZuptSpec(AidSpec):
             w = signals.gyro / h if inc else signals.gyro
             a = signals.accel / h if inc else signals.accel
             ts = signals.t - (h / 2 if inc else 0.0)
-            return shoe_intervals(ts, w, a, g=signals.g, window=config.window,
-                                  threshold=config.threshold)
+            if config.threshold is not None:
+                return shoe_intervals(ts, w, a, g=signals.g, window=config.window,
+                                      threshold=config.threshold)
+            return intervals_of(stance_flags(w, a, signals.rate, sigma=config.sigma,
+                                             g=signals.g, window=config.window,
+                                             lever=config.lever, probability=config.probability,
+                                             stride=config.stride), ts)
         intervals = data.get(self.name)
         if intervals is None:
             raise ImunavError("[zupt] detector = \"truth\" needs the stance intervals "
