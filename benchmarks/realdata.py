@@ -33,6 +33,7 @@ ARMSE₂D = the mean over samples of √((Δx² + Δy²)/2).
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import sys
 import time
@@ -42,13 +43,14 @@ from pathlib import Path
 import numpy as np
 import scipy.io
 
-from imunav.core.kernels import quat_rotate, quat_to_dcm
+from imunav.analysis.recordings import armse2d, outage_errors, outage_schedule
+from imunav.core.kernels import quat_to_dcm
 from imunav.core.rotations import euler_to_quat, quat_from_dcm, quat_to_euler
 from imunav.earth import normal_gravity
 from imunav.estimation.logs import filter_log
 from imunav.io.realdata import read_generic
 from imunav.io.rtklib import gnss_readings, read_pos
-from imunav.sensors.aids import AidingConfig, AidingData, intervals_of
+from imunav.sensors.aids import AidingConfig, AidingData, MountingConfig, Readings, intervals_of
 from imunav.sensors.models import ImuModel
 from imunav.sensors.signals import ImuSignals
 
@@ -57,34 +59,17 @@ DEFAULT_DATA = ROOT.parent / "shared" / "data"
 OUT = ROOT / "benchmarks" / "results_realdata.json"
 
 # ----------------------------------------------------------------------------- the drive
-#: rtklibexplorer's set-up of his drive (``drive_config.py``): the IMU turned 180° in roll and
-#: 180° in yaw against the car's forward-right-down axes plus a measured misalignment (roll 0°,
-#: pitch −6.79°, yaw 5.35°), applied as ``f_vehicle = Euler_to_CTM(rpy) f_imu`` (Groves'
-#: Euler_to_CTM(φ, θ, ψ) = (R_z(ψ) R_y(θ) R_x(φ))ᵀ: his angles are the car's against the IMU).
+#: The drive's set-up (the author's mounting and lever arm, GNSS with each epoch's own σ, the
+#: car's NHC; each choice explained in the file) and the author's IMU configuration.
+DRIVE_AIDING = ROOT / "examples" / "rtklib_drive.toml"
+DRIVE_IMU = ROOT / "examples" / "rtklib_drive_imu.toml"
+#: rtklibexplorer's mounting (drive_config.py: roll, pitch, yaw of the car against the IMU,
+#: applied as f_vehicle = (R_z R_y R_x)ᵀ f_imu); examples/rtklib_drive.toml holds it in imunav's
+#: convention (:func:`mounting_rpy` checks the conversion).
 AUTHOR_RPY_DEG = (180.0 + 0.0, 0.0 - 6.79, 180.0 + 5.35)
-#: His lever arms (forward-right-down from the system origin): IMU (0, 0, −0.65) m, antenna
-#: (0, −0.05, −0.65) m — the antenna from the IMU.
-ANTENNA_FROM_IMU = (0.0, -0.05, 0.0)
-#: His IMU's noise densities (the datasheet's) and bias terms (his filter's initial bias
-#: uncertainty and bias PSD).
-AUTHOR_IMU = {"name": "ICM-45686 (rtklibexplorer's configuration)",
-              "gyro": {"noise_density": "0.0038 deg/s/sqrt(Hz)", "bias": "0.2 deg/s",
-                       "random_walk": "3.8e-5 deg/s/sqrt(s)"},
-              "accel": {"noise_density": "70 ug/sqrt(Hz)", "bias": "20 mg",
-                        "random_walk": "7 ug/sqrt(s)"}}
-#: The aids: GNSS position and velocity at 4 Hz with each epoch's own σ (floors 2 cm and
-#: 5 cm/s: an RTK fix's σ says nothing of the antenna's multipath), the receiver's velocity
-#: delay measured from its own positions; the car's non-holonomic constraint (σ 0.1 m/s: the
-#: slip of a car on tarmac) at the GNSS rate — a constraint treated as white must not be
-#: applied faster than its errors decorrelate, and this one's (a lever-arm effect of the turns)
-#: lasts seconds.
-DRIVE_AIDING = {
-    "gnss": {"rate": 4, "format": "rtklib", "position_sigma": 0.02, "velocity_sigma": 0.05,
-             "lever_arm": list(ANTENNA_FROM_IMU), "velocity_delay": "auto"},
-    "nhc": {"sigma": 0.1, "rate": 4},
-}
-#: The author's evaluation: his outage schedule.
-OUTAGE = {"length": 15.0, "first": 40.0, "period": 45.0, "end_margin": 30.0}
+#: The author's outage schedule (imunav.analysis.recordings.outage_schedule's defaults), in words.
+OUTAGE_RULE = ("15 s outages, the first 40 s after the first GNSS epoch, then one every 45 s, "
+               "the last ending before 30 s from the end")
 #: The author's own results on this file (measured with his filter, forward only), and his
 #: "velocity matching" (which uses the first fix after the outage: a smoother's cousin).
 AUTHOR = {"median": 6.8, "mean": 6.4, "worst": 12.8, "velocity_matching_mean": 0.44,
@@ -100,69 +85,51 @@ def mounting_rpy() -> list[float]:
     return [float(ypr[2]), float(ypr[1]), float(ypr[0])]
 
 
-def outages(t_gnss: np.ndarray, n: int | None = None) -> list[tuple[float, float]]:
-    """The author's schedule, relative to the first GNSS epoch's time ``t_gnss[0]``."""
-    out, s = [], t_gnss[0] + OUTAGE["first"]
-    while s + OUTAGE["length"] <= t_gnss[-1] - OUTAGE["end_margin"]:
-        out.append((float(s), float(s + OUTAGE["length"])))
-        s += OUTAGE["period"]
-    return out[:n] if n else out
-
-
-def _antenna(r, t, lever):
-    st = r.states
-    k = np.clip(np.searchsorted(st.t, t) - 1, 0, st.t.size - 1)
-    return st.position[k] + st.velocity[k] * (t - st.t[k])[:, None] + quat_rotate(
-        st.quaternion[k], np.broadcast_to(lever, (t.size, 3)))
-
-
-def outage_errors(res, t_fix, ned_fix, outs, lever, smoothed=False) -> dict:
-    """The horizontal error at the antenna against the withheld fixes of each outage."""
-    r = res.smoothed if smoothed else res
-    per, inside, n = [], 0, 0
-    ep_t = res.t[res.epochs]
-    for a, b in outs:
-        k = (t_fix >= a) & (t_fix <= b)
-        e = (_antenna(r, t_fix[k], np.asarray(lever)) - ned_fix[k])[:, :2]
-        per.append(float(np.hypot(e[:, 0], e[:, 1]).max()))
-        j = np.clip(np.searchsorted(ep_t, t_fix[k], side="right") - 1, 0, ep_t.size - 1)
-        P = res.P_nav[j][:, 6:8, 6:8]
-        m = np.einsum("ni,nij,nj->n", e, np.linalg.inv(P), e)
-        inside += int((m <= 5.991464547107979).sum())
-        n += int(k.sum())
-    per = np.array(per)
-    return {"per_outage": per.round(3).tolist(), "median": float(np.median(per)),
-            "mean": float(per.mean()), "worst": float(per.max()), "inside_95": inside / n}
-
-
-def drive(data: Path, quick: bool = False) -> dict:
+def load_drive(data: Path):
+    """The drive's IMU (tag-timed) and RTKLIB solution, times relative to the first GNSS
+    epoch; the flat frame at that epoch."""
     d = data / "rtklib_drive"
     rec = read_generic(d / "imu_1934.csv", gyro_columns=[3, 4, 5], accel_columns=[0, 1, 2],
                        gyro_units="deg/s", accel_units="g", time_column=6, time_units="ms",
                        tag=d / "imu_1934.csv.tag")
     sol = read_pos(d / "gnss_1934_sf.pos")
-    T0 = float(sol.t[0])                       # times relative to the first GNSS epoch
+    T0 = float(sol.t[0])
     s = rec.signals
     g = float(normal_gravity(sol.llh[0, 0], sol.llh[0, 2]))
-    sig = ImuSignals(s.t - T0, s.gyro, s.accel, s.kind, s.rate, g)
-    t_fix, ned_fix = sol.t - T0, sol.ned()
-    outs = outages(t_fix, 1 if quick else None)
-    cfg = json.loads(json.dumps(DRIVE_AIDING))
-    cfg["gnss"]["outages"] = [list(o) for o in outs]
-    cfg["mounting"] = {"rpy_deg": mounting_rpy()}
-    aiding = AidingConfig.from_dict(cfg)
+    return ImuSignals(s.t - T0, s.gyro, s.accel, s.kind, s.rate, g), sol, T0
+
+
+def drive_config(sol, T0, outs, without: tuple = ()):
+    """The drive's AIDING (with the outages) and its GNSS readings; ``without`` drops
+    ``"mounting"`` (the IMU's own axes) or ``"misalignment"`` (only the 180°/180° turn)."""
+    aiding = AidingConfig.from_toml(DRIVE_AIDING)
+    aiding = aiding.replace(gnss=dataclasses.replace(aiding.gnss,
+                                                     outages=tuple(tuple(o) for o in outs)))
+    if "misalignment" in without:
+        aiding = aiding.replace(mounting=MountingConfig((180.0, 0.0, 180.0)))
+    if "mounting" in without:
+        aiding = aiding.replace(mounting=MountingConfig())
     readings, notes = gnss_readings(sol, aiding.gnss)
     readings.t = readings.t - T0
+    return aiding, AidingData(gnss=readings), notes
+
+
+def drive(data: Path, quick: bool = False) -> dict:
+    sig, sol, T0 = load_drive(data)
+    t_fix, ned_fix = sol.t - T0, sol.ned()
+    outs = outage_schedule(t_fix)
+    if quick:
+        outs = outs[:1]
+    aiding, data_, notes = drive_config(sol, T0, outs)
     if quick:                                  # up to 30 s after the first outage
         end = outs[0][1] + 30.0
         keep = sig.t <= end
-        sig = ImuSignals(sig.t[keep], sig.gyro[keep], sig.accel[keep], sig.kind, sig.rate, g)
-        w = readings.t <= end
-        readings.t, readings.values, readings.sigma = (readings.t[w], readings.values[w],
-                                                       readings.sigma[w])
-    imu = ImuModel.from_dict(AUTHOR_IMU)
+        sig = ImuSignals(sig.t[keep], sig.gyro[keep], sig.accel[keep], sig.kind, sig.rate, sig.g)
+        r = data_.gnss
+        w = r.t <= end
+        data_.gnss = Readings(r.t[w], r.values[w], r.sigma[w])
+    imu = ImuModel.load(DRIVE_IMU)
     kw = dict(imu=imu, align="gnss", noise="rest", time_offset="auto", align_speed=0.3)
-    data_ = AidingData(gnss=readings)
     secs = []
     for _ in range(1 if quick else 2):
         t0 = time.perf_counter()
@@ -172,8 +139,9 @@ def drive(data: Path, quick: bool = False) -> dict:
     lr = filter_log(sig, aiding, data_, smooth=True, **kw)
     both = time.perf_counter() - t0
     res = lr.result
-    f = outage_errors(res, t_fix, ned_fix, outs, ANTENNA_FROM_IMU)
-    sm = outage_errors(res, t_fix, ned_fix, outs, ANTENNA_FROM_IMU, smoothed=True)
+    lever = aiding.gnss.lever_arm
+    f = outage_errors(res, t_fix, ned_fix, outs, lever)
+    sm = outage_errors(res, t_fix, ned_fix, outs, lever, smoothed=True)
     return {
         "outage_max_horizontal_m": {k: f[k] for k in ("median", "mean", "worst")},
         "smoother_outage_max_horizontal_m": {k: sm[k] for k in ("median", "mean", "worst")},
@@ -184,8 +152,8 @@ def drive(data: Path, quick: bool = False) -> dict:
                        for (a, b), x, y in zip(outs, f["per_outage"], sm["per_outage"],
                                                strict=True)],
         "notes": notes + lr.notes, "warnings": list(res.warnings),
-        "start_s": float(lr.initial.t0),
-        "aiding": cfg, "imu": AUTHOR_IMU, "author": AUTHOR,
+        "start_s": float(lr.initial.t0), "time_offset_s": float(lr.time_offset),
+        "aiding": DRIVE_AIDING.name, "imu": DRIVE_IMU.name, "author": AUTHOR,
     }
 
 
@@ -193,21 +161,20 @@ def drive(data: Path, quick: bool = False) -> dict:
 #: One parameter set for every walk: ``[zupt]`` with its defaults (σ 0.01 m/s — PyShoe's and
 #: OpenShoe's — and the SHOE detector's one parameter set of imunav.sensors.aids.zupt), the
 #: stated model of a foot's IMU (imunav.estimation.logs.FOOT_NOISE), the static alignment.
-WALK_AIDING = {"zupt": {"sigma": 0.01, "detector": "shoe"}}
+WALK_AIDING = ROOT / "examples" / "foot_shoe.toml"
 #: Gravity where the walks were recorded (University of Toronto, 43.66° N, about 100 m).
 G_TORONTO = float(normal_gravity(np.radians(43.66), 100.0))
 
 
-def armse2d(est_xy: np.ndarray, gt: np.ndarray, dist: float = 0.8) -> float:
-    """The dataset's metric (see the module docstring)."""
-    e = est_xy[:, :2] - est_xy[0, :2]
-    g = gt[:, :2] - gt[0, :2]
-    r = np.hypot(e[:, 0], e[:, 1])
-    k = int(np.argmax(r >= dist)) if (r >= dist).any() else len(r) - 1
-    a = np.arctan2(g[k, 1], g[k, 0]) - np.arctan2(e[k, 1], e[k, 0])
-    R = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
-    d = e @ R.T - g
-    return float(np.mean(np.sqrt((d ** 2).sum(axis=1) / 2)))
+def load_walk(path: Path):
+    """A PyShoe walk: its 200 Hz IMU samples (the file's ``ts`` jitters: logging), Vicon track,
+    zero-velocity labels (intervals) and the authors' per-walk tuned SHOE error."""
+    m = scipy.io.loadmat(path)
+    imu = m["imu"]
+    t = np.arange(imu.shape[0]) / 200.0
+    sig = ImuSignals(t, imu[:, 3:6], imu[:, 0:3], "rates", 200.0, G_TORONTO)
+    labels = intervals_of(m["zv_shoe_opt"].ravel().astype(bool), t)
+    return sig, m["gt"], labels, float(m["trial_error"].ravel()[0])
 
 
 def walks(data: Path, quick: bool = False) -> dict:
@@ -215,18 +182,11 @@ def walks(data: Path, quick: bool = False) -> dict:
     if quick:
         files = files[:2]
     rows = []
-    own_cfg = AidingConfig.from_dict(WALK_AIDING)
-    lab_cfg = AidingConfig.from_dict({"zupt": {"sigma": WALK_AIDING["zupt"]["sigma"],
-                                               "detector": "truth"}})
+    own_cfg = AidingConfig.from_toml(WALK_AIDING)
+    lab_cfg = own_cfg.replace(zupt=dataclasses.replace(own_cfg.zupt, detector="truth"))
     for p in files:
-        m = scipy.io.loadmat(p)
-        imu = m["imu"]
-        t = np.arange(imu.shape[0]) / 200.0        # the file's ts jitters: 200 Hz samples
-        sig = ImuSignals(t, imu[:, 3:6], imu[:, 0:3], "rates", 200.0, G_TORONTO)
-        gt = m["gt"]
-        row = {"walk": p.stem, "seconds": round(t[-1], 1),
-               "paper_shoe_m": float(m["trial_error"].ravel()[0])}
-        labels = intervals_of(m["zv_shoe_opt"].ravel().astype(bool), t)
+        sig, gt, labels, paper = load_walk(p)
+        row = {"walk": p.stem, "seconds": round(float(sig.t[-1]), 1), "paper_shoe_m": paper}
         for name, cfg, data_ in (("labels", lab_cfg, AidingData(zupt=labels)),
                                  ("own", own_cfg, None)):
             t0 = time.perf_counter()
@@ -242,7 +202,7 @@ def walks(data: Path, quick: bool = False) -> dict:
         return {"median": float(np.median(x)), "mean": float(x.mean())}
 
     return {"armse2d_labels": stat("labels_m"), "armse2d_own": stat("own_m"),
-            "paper_shoe": stat("paper_shoe_m"), "per_walk": rows, "aiding": WALK_AIDING}
+            "paper_shoe": stat("paper_shoe_m"), "per_walk": rows, "aiding": WALK_AIDING.name}
 
 
 def main(argv=None) -> int:

@@ -472,6 +472,11 @@ def cmd_simulate(args) -> int:
     check_disk(out["--out"], (n + 1) * ROW_BYTES["signals"], "this simulation")
     if args.truth:
         check_disk(out["--truth"], (n + 1) * ROW_BYTES["states"], "--truth")
+    data = None
+    if aiding is not None:            # every check of the aids before anything is written
+        data = simulate_aiding(motion, aiding, n / args.rate, seed=args.seed,
+                               imu_rate=args.rate)
+        _check_aids_rate(aiding, args.rate)
     clipped = [0]
     chunks = signal_chunks(motion, args.rate, duration, output=args.output, g=g, imu=model,
                            seed=args.seed,
@@ -489,8 +494,6 @@ def cmd_simulate(args) -> int:
         print(f"imunav: warning: {clipped[0]} samples clipped at the sensor range",
               file=sys.stderr)
     if aiding is not None:
-        data = simulate_aiding(motion, aiding, n / args.rate, seed=args.seed,
-                               imu_rate=args.rate)
         files = write_aiding(args.aiding_out, data, motion.frame)
         counts = ", ".join(f"{p.name} ({_rows(data, p.stem)} rows)" for p in files)
         print(f"wrote {counts} to {args.aiding_out}" if files else
@@ -516,6 +519,16 @@ def _rows(data, name: str) -> int:
     return int(r.shape[0]) if name == "zupt" else len(r)
 
 
+def _check_aids_rate(aiding, imu_rate: float) -> None:
+    """An aid may not read faster than the IMU samples (the filter updates at IMU nodes)."""
+    for name in aiding.sensors:
+        r = AIDS[name].rate(aiding.get(name))
+        if r is not None and r > imu_rate * (1 + 1e-12):
+            raise ImunavError(f"[{name}] rate = {r:g} Hz is above the IMU rate of {imu_rate:g} "
+                              f"Hz: expected at most {imu_rate:g} Hz (the filter updates at IMU "
+                              "samples)")
+
+
 def _check_aiding_out(folder: Path, aiding, inputs, outputs) -> None:
     """--aiding-out: not a file, and none of its sensor files an input or another output."""
     if folder.exists() and not folder.is_dir():
@@ -523,6 +536,9 @@ def _check_aiding_out(folder: Path, aiding, inputs, outputs) -> None:
     if not folder.resolve().parent.is_dir():
         raise ImunavError(f"--aiding-out {folder}: the folder {folder.resolve().parent} does "
                           "not exist")
+    where = folder if folder.is_dir() else folder.resolve().parent
+    if not os.access(where, os.W_OK | os.X_OK):
+        raise ImunavError(f"--aiding-out {folder}: {where} is not writable")
     names = {f"--aiding-out {folder / fname}": folder / fname
              for fname in (spec.file for spec in AIDS.values())}
     check_outputs({**outputs, **names} if folder.is_dir() else dict(outputs), inputs)

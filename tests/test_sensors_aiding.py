@@ -49,7 +49,8 @@ def test_defaults():
     assert cfg.baro.bias_drift == 0.0
     assert cfg.nhc.rate == 10.0
     z = cfg.zupt
-    assert (z.detector, z.window, z.threshold, z.lever, z.probability, z.stride) == ("truth", 3, None, 0.1, 0.99, 1.2)
+    assert (z.detector, z.window, z.threshold, z.lever, z.probability, z.stride) == (
+        "truth", 3, None, 0.1, 0.99, 1.2)
     assert (cfg.initial.position_sigma, cfg.initial.velocity_sigma,
             cfg.initial.attitude_sigma) == (0.0, 0.0, 0.0)
 

@@ -268,7 +268,9 @@ class AlongTruth:
                  covariance_step: float = 0.1, algorithm: str | None = None, g: float = G0,
                  terms: bool = False, measurements: list | None = None):
         rate = check_positive(rate, "rate")
-        check_positive(covariance_step, "covariance_step")
+        if not 0 < check_positive(covariance_step, "covariance_step") <= 10.0:
+            raise ImunavError(f"covariance_step must be in (0, 10] s (the motion is held over a "
+                              f"step), got {covariance_step:g}", argument="covariance_step")
         aiding = aiding if aiding is not None else AidingConfig()
         extra = list(measurements or [])
         if not aiding.sensors and not extra:

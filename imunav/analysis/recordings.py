@@ -1,6 +1,7 @@
 """Analyses of real recordings: the device's quaternion convention checked against the gyro,
 gyro-only attitude against the device's, stationary segments, drift from rest, and bias
-calibration judged out of sample.
+calibration judged out of sample; and the errors of a filtered log against its truth (a car's
+withheld GNSS fixes in simulated outages, a foot's motion-capture track).
 
 The readers are :mod:`imunav.io.realdata`; for one import in a notebook the shipped recordings'
 readers are re-exported here (``read_ximu3``, ``read_ximu``, ``read_generic``, ``data_path``,
@@ -14,14 +15,15 @@ from __future__ import annotations
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 
-from imunav.core.kernels import FloatArray, quat_angle, quat_conj, quat_mul
+from imunav.core.kernels import FloatArray, quat_angle, quat_conj, quat_mul, quat_rotate
 from imunav.core.validation import ImunavError
 from imunav.io.realdata import READERS, Recording, data_path, read_generic, read_ximu, read_ximu3
 from imunav.sensors.signals import ImuSignals
 from imunav.strapdown.alignment import level_attitude, remove_static_biases
 from imunav.strapdown.registry import navigate
 
-__all__ = ["READERS", "Recording", "data_path", "device_as_q_nb",
+__all__ = ["CHI2_2_95", "READERS", "Recording", "aligned_track", "antenna_track", "armse2d", "data_path",
+           "device_as_q_nb", "outage_errors", "outage_schedule",
            "device_quaternion_convention", "drift_from_rest", "gyro_attitude", "gyro_vs_device",
            "holdout_bias", "read_generic", "read_ximu", "read_ximu3", "static_segments"]
 
@@ -185,3 +187,148 @@ def holdout_bias(sig: ImuSignals, i0: int, i1: int, split: int,
         d = np.linalg.norm(nav.position, axis=1)
         out[name] = {"t": nav.t, "drift": d, "final": float(d[-1])}
     return out
+
+
+# ----------------------------------------------------------------------------- logs with truth
+
+def outage_schedule(t_gnss: FloatArray, length: float = 15.0, first: float = 40.0,
+                    period: float = 45.0, end_margin: float = 30.0
+                    ) -> list[tuple[float, float]]:
+    """Simulated GNSS outages on a log (rtklibexplorer's evaluation of his drive): ``length`` s
+    each, the first starting ``first`` s after the first epoch, then one every ``period`` s, the
+    last ending before ``end_margin`` s from the last epoch.
+
+    Parameters
+    ----------
+    t_gnss : ndarray
+        The GNSS epochs (s).
+    length, first, period, end_margin : float
+        Seconds.
+
+    Returns
+    -------
+    list of (float, float)
+    """
+    t_gnss = np.asarray(t_gnss, float)
+    out, s = [], float(t_gnss[0]) + first
+    while s + length <= float(t_gnss[-1]) - end_margin:
+        out.append((s, s + length))
+        s += period
+    return out
+
+
+def antenna_track(states, t: FloatArray, lever_arm) -> FloatArray:
+    """An estimate's antenna position at times ``t``: the node before each carried by its
+    velocity, plus the lever arm turned by its attitude.
+
+    Parameters
+    ----------
+    states : States
+        The estimate (flat frame).
+    t : ndarray, shape (k,)
+    lever_arm : array_like, shape (3,)
+        The antenna in the body frame (m).
+
+    Returns
+    -------
+    ndarray, shape (k, 3)
+    """
+    t = np.asarray(t, float)
+    k = np.clip(np.searchsorted(states.t, t) - 1, 0, states.t.size - 1)
+    return (states.position[k] + states.velocity[k] * (t - states.t[k])[:, None]
+            + quat_rotate(states.quaternion[k],
+                          np.broadcast_to(np.asarray(lever_arm, float), (t.size, 3))))
+
+
+#: χ² with 2 degrees of freedom at 95 %: the filter's own horizontal 95 % ellipse.
+CHI2_2_95 = 5.991464547107979
+
+
+def outage_errors(result, t_fix: FloatArray, ned_fix: FloatArray, outages, lever_arm, *,
+                  smoothed: bool = False) -> dict:
+    """The horizontal error of an estimated antenna track against the GNSS fixes withheld in
+    each outage, and how many of them lie inside the filter's own 95 % ellipse.
+
+    Parameters
+    ----------
+    result : FilterResult
+        The filter's (its horizontal covariance at the last covariance epoch before each fix).
+    t_fix, ned_fix : ndarray
+        The fixes: times (s) and NED positions (m).
+    outages : list of (float, float)
+    lever_arm : array_like, shape (3,)
+    smoothed : bool
+        The errors of ``result.smoothed`` (the ellipse stays the filter's).
+
+    Returns
+    -------
+    dict
+        ``per_outage`` (the largest horizontal error of each, m), ``median``, ``mean``,
+        ``worst``, ``inside_95``; ``t``, ``error`` (k, 2) and ``sd`` (k, 2) of every withheld
+        fix.
+    """
+    r = result.smoothed if smoothed else result
+    ep_t = result.t[result.epochs]
+    per, ts, errs, sds, inside = [], [], [], [], 0
+    for a, b in outages:
+        k = (t_fix >= a) & (t_fix <= b)
+        e = (antenna_track(r.states, t_fix[k], lever_arm) - ned_fix[k])[:, :2]
+        per.append(float(np.hypot(e[:, 0], e[:, 1]).max()))
+        j = np.clip(np.searchsorted(ep_t, t_fix[k], side="right") - 1, 0, ep_t.size - 1)
+        P = result.P_nav[j][:, 6:8, 6:8]
+        inside += int((np.einsum("ni,nij,nj->n", e, np.linalg.inv(P), e) <= CHI2_2_95).sum())
+        ts.append(t_fix[k])
+        errs.append(e)
+        sds.append(np.sqrt(np.diagonal(P, axis1=1, axis2=2)))
+    per = np.array(per)
+    n = sum(x.size for x in ts)
+    return {"per_outage": per.tolist(), "median": float(np.median(per)),
+            "mean": float(per.mean()), "worst": float(per.max()), "inside_95": inside / n,
+            "t": np.concatenate(ts), "error": np.concatenate(errs), "sd": np.concatenate(sds)}
+
+
+def aligned_track(estimate: FloatArray, truth: FloatArray, distance: float = 0.8
+                  ) -> tuple[FloatArray, FloatArray]:
+    """The PyShoe dataset's alignment of a foot-mounted track to its truth: both shifted to
+    start at 0; the estimate turned about the vertical so that its horizontal position at the
+    first sample at least ``distance`` of horizontal travel from its start (the last sample if
+    it never gets that far) points the way the truth's does at that sample.
+
+    Parameters
+    ----------
+    estimate, truth : ndarray, shape (n, ≥2)
+        Positions at the same samples (m).
+    distance : float
+
+    Returns
+    -------
+    estimate, truth : ndarray, shape (n, 2)
+        Horizontal, aligned.
+    """
+    e = np.asarray(estimate, float)[:, :2] - np.asarray(estimate, float)[0, :2]
+    g = np.asarray(truth, float)[:, :2] - np.asarray(truth, float)[0, :2]
+    r = np.hypot(e[:, 0], e[:, 1])
+    k = int(np.argmax(r >= distance)) if (r >= distance).any() else len(r) - 1
+    a = np.arctan2(g[k, 1], g[k, 0]) - np.arctan2(e[k, 1], e[k, 0])
+    R = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+    return e @ R.T, g
+
+
+def armse2d(estimate: FloatArray, truth: FloatArray, distance: float = 0.8) -> float:
+    """The PyShoe dataset's error of a foot-mounted track: the mean over samples of
+    ``√((Δx² + Δy²)/2)`` after :func:`aligned_track`.
+
+    Parameters
+    ----------
+    estimate, truth : ndarray, shape (n, ≥2)
+        Positions at the same samples (m).
+    distance : float
+
+    Returns
+    -------
+    float
+        Metres.
+    """
+    e, g = aligned_track(estimate, truth, distance)
+    d = e - g
+    return float(np.mean(np.sqrt((d ** 2).sum(axis=1) / 2)))

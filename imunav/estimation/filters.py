@@ -249,6 +249,13 @@ class _Filter:
         # the readings: one schedule, the same in every run
         sched = self.sched = Schedule(t0, self.h, N, algo.align)
         for i, a in enumerate(self.aids):
+            if a.t.size > 2:                    # an aid faster than the IMU: refused
+                span = float(a.t[-1] - a.t[0])
+                if span > 0 and (a.t.size - 1) / span > s0.rate * (1 + 1e-6):
+                    raise ImunavError(f"aid {a.name}: {a.t.size} readings in {span:.6g} s "
+                                      f"({(a.t.size - 1) / span:.6g} Hz) are faster than the "
+                                      f"IMU ({s0.rate:g} Hz): the filter updates at IMU "
+                                      "samples; thin them", argument="measurements")
             sched.add(i, a.t, a.name)
         for run in aids[1:]:
             other = Schedule(t0, self.h, N, algo.align)
@@ -318,7 +325,8 @@ class _Filter:
             Rn = (m.noise() if self.noise[ai] is None else
                   self.noise[ai][j][:, :, None] * np.eye(m.size))
             admit = None
-            if self.recover and self.gate is not None:
+            gate = self.gate if m.gated else None
+            if self.recover and gate is not None:
                 lock = (self.streak[ai] >= self.recover) & (
                     np.array([len(x) for x in self.readmitted[ai]]) < MAX_READMISSIONS)
                 admit = self.grace[ai] > 0
@@ -334,7 +342,7 @@ class _Filter:
                 self.grace[ai] = np.maximum(self.grace[ai] - 1, 0)
                 if not admit.any():
                     admit = None
-            up = update_batch(x, P, z + np.einsum("rmn,rn->rm", H, x), H, Rn, gate=self.gate,
+            up = update_batch(x, P, z + np.einsum("rmn,rn->rm", H, x), H, Rn, gate=gate,
                               admit=admit, robust=True)
             self.broken[ai] += np.isnan(up.nis)
             self.streak[ai] = np.where(up.accepted, 0, self.streak[ai] + 1)
@@ -550,10 +558,18 @@ def _start(q0, v0, p0, R=None):
     return tuple(np.broadcast_to(x, (R, x.shape[-1])).copy() for x in (q0, v0, p0))
 
 
+#: The longest covariance step (s): the discretisation holds the motion at each step's midpoint.
+MAX_COVARIANCE_STEP = 10.0
+
+
 def _common(signals, covariance_step, earth, model):
     if not isinstance(signals, ImuSignals):
         raise ImunavError(f"signals must be ImuSignals, got {type(signals).__name__}")
     check_positive(covariance_step, "covariance_step")
+    if covariance_step > MAX_COVARIANCE_STEP:
+        raise ImunavError(f"covariance_step must be in (0, {MAX_COVARIANCE_STEP:g}] s (the "
+                          f"motion is held over a step), got {covariance_step:g}",
+                          argument="covariance_step")
     if earth not in ("flat", "wgs84"):
         raise ImunavError(f"earth must be 'flat' or 'wgs84', got {earth!r}", argument="earth")
     return model or (EARTH if earth == "wgs84" else FLAT)
@@ -597,7 +613,8 @@ def run_filter(signals: ImuSignals, q0: npt.ArrayLike, v0: npt.ArrayLike, p0: np
         Longest covariance step (s), rounded to whole IMU intervals.
     gate : float or None
         Probability of the χ² innovation gate (None: no gate): a reading whose normalised
-        innovation squared exceeds the χ² quantile of this probability is not used.
+        innovation squared exceeds the χ² quantile of this probability is not used (the aids whose
+        ``Measurement.gated`` is False — zero-velocity updates — are never gated).
     smooth : bool
         Also run the RTS smoother (``result.smoothed``).
     model : FlatErrorModel, optional

@@ -24,6 +24,7 @@ May import: ``imunav.core``, ``imunav.sensors``, ``imunav.strapdown``, ``imunav.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -39,8 +40,8 @@ from imunav.sensors.models import ImuModel
 from imunav.sensors.signals import ImuSignals
 from imunav.strapdown.initial import InitialState, gnss_alignment, static_alignment
 
-__all__ = ["FOOT_NOISE", "MIN_BIAS_SECONDS", "STILL_MARGIN", "STILL_SPEED", "UNKNOWN_IMU", "LogResult", "filter_log",
-           "imu_time_offset", "mounted", "rest_noise", "unknown_imu"]
+__all__ = ["FOOT_NOISE", "MIN_BIAS_SECONDS", "STILL_MARGIN", "STILL_SPEED", "UNKNOWN_IMU",
+           "LogResult", "filter_log", "imu_time_offset", "mounted", "rest_noise", "unknown_imu"]
 
 #: The stated model of an IMU nobody named (``imunav filter`` without ``--imu``): white noise of
 #: a consumer MEMS part at rest in a vehicle (0.05 °/s/√Hz, 700 µg/√Hz — what an engine's
@@ -337,7 +338,9 @@ def filter_log(signals: ImuSignals, aiding: AidingConfig, data: AidingData | Non
     # is not: the bias states or the noise carry it)
     remove_bias = still_seconds >= MIN_BIAS_SECONDS
     if align == "static":
-        start = static_alignment(sig, still_seconds, gyro_bias=remove_bias)
+        with warnings.catch_warnings():             # its warnings go into the result's
+            warnings.simplefilter("ignore")
+            start = static_alignment(sig, still_seconds, gyro_bias=remove_bias)
         if initial == InitialConfig():
             initial = InitialConfig(attitude_sigma=float(np.radians(1.0)))
     else:
@@ -346,10 +349,12 @@ def filter_log(signals: ImuSignals, aiding: AidingConfig, data: AidingData | Non
                               argument="align")
         lever = aiding.gnss.lever_arm if aiding.gnss is not None else (0.0, 0.0, 0.0)
         inside = (gnss.t > sig.t[0]) & (gnss.t < sig.t[-1])
-        start = gnss_alignment(sig, gnss.t[inside], gnss.values[inside, :3],
-                               gnss.values[inside, 3:6], still_seconds=still_seconds,
-                               speed=align_speed, heading_seconds=heading_seconds,
-                               lever_arm=lever, gyro_bias=remove_bias)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            start = gnss_alignment(sig, gnss.t[inside], gnss.values[inside, :3],
+                                   gnss.values[inside, 3:6], still_seconds=still_seconds,
+                                   speed=align_speed, heading_seconds=heading_seconds,
+                                   lever_arm=lever, gyro_bias=remove_bias)
         if initial == InitialConfig():
             initial = InitialConfig(position_sigma=float(aiding.gnss.position_sigma or 1.0),
                                     velocity_sigma=0.1, attitude_sigma=float(np.radians(2.0)))

@@ -297,6 +297,8 @@ class ImuModel:
             If ``spec`` is neither (the message names the argument ``imu``), or the file is not
             a valid IMU model.
         """
+        if isinstance(spec, Path):
+            spec = str(spec)
         if spec in PRESETS:
             return cls.from_dict(PRESETS[spec], spec)
         if spec.endswith(".toml") or Path(spec).is_file():

@@ -499,6 +499,10 @@ class Measurement:
         The aid's own error states.
     angular : bool
         Whether the innovation is an angle (wrapped to [−π, π)).
+    gated : bool
+        Whether the filter's χ² gate applies to its readings (False: a constraint a detector
+        has already decided on, as a zero-velocity update: rejecting it would leave the drift
+        it exists to stop unbounded).
     batched : bool
         Whether :meth:`predict` and :meth:`jacobian` take a :class:`NavPoint` of ``R`` runs
         (arrays with a leading run axis) and return ``(R, m)`` and ``(R, m, n)``; False (a
@@ -508,6 +512,7 @@ class Measurement:
     name = ""
     columns: tuple[str, ...] = ()
     angular = False
+    gated = True
     batched = False
 
     def __init__(self):

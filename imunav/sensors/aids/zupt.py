@@ -101,6 +101,7 @@ class Zupt(Measurement):
     """
 
     name, columns, batched = "zupt", ("vx", "vy", "vz"), True
+    gated = False                    # the detector decided: a stance is applied, never gated
 
     def __init__(self, sigma: float):
         super().__init__()
