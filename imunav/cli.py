@@ -901,6 +901,9 @@ def _check_initial_frame(args, init) -> None:
                 else "t,x,y,z,vx,vy,vz,qw,qx,qy,qz")
         raise ImunavError(f"--initial {args.initial} is a {init.frame} truth but --earth is "
                           f"{args.earth} (expected the header {want})")
+    if init.frame == "wgs84":                  # where it starts must be on the Earth
+        lat, lon, h = init.position[0]
+        check_origin(float(lat), float(lon), float(h), f"--initial {args.initial}, its first row")
 
 
 def _navigate_recording(args, out: Path) -> int:

@@ -131,3 +131,21 @@ def test_assess_usage_errors(files, capsys, extra, fragment):
     code, _, err = _run(capsys, "assess", m, "--imu", "BMI088", "--rate", 20, "--tolerance", 8,
                         *extra)
     assert code == 2 and fragment in err and len(err.strip().splitlines()) == 1, err
+
+
+def test_assess_aided_on_the_rotating_earth_says_so_and_differs_from_flat(files, capsys):
+    """issue 35: `assess --aiding --earth wgs84 --origin …` answers (it was refused), its report
+    and JSON name the frame, and its outage answer is the Earth's own (not the flat one's to
+    the last digit: Earth rate, transport rate and the gravity gradient are in it)."""
+    m, a, d = files
+    out = {}
+    for frame, extra in (("flat", []), ("wgs84", ["--earth", "wgs84", "--origin", "45,7,300"])):
+        code, text, err = _run(capsys, "assess", m, "--imu", "ADIS16470", "--rate", 20,
+                               "--tolerance", 5, "--aiding", a, "--json", d / f"{frame}.json",
+                               *extra)
+        assert code == 0, err
+        out[frame] = (text, json.loads((d / f"{frame}.json").read_text()))
+    assert "rotating WGS-84 Earth" in out["wgs84"][0] and "(flat frame)" in out["flat"][0]
+    assert out["wgs84"][1]["earth"] == "wgs84" and out["flat"][1]["earth"] == "flat"
+    e, f = (out[k][1]["outages"][0]["position_p95_max_m"] for k in ("wgs84", "flat"))
+    assert e != f and abs(e / f - 1) < 0.5

@@ -266,3 +266,76 @@ def test_a_folder_given_for_a_toml_file_is_called_a_folder(tmp_path, capsys):
                  "--aiding", str(tmp_path / "aid_dir")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "is a folder; expected a TOML file" in err
+
+
+# ----------------------------------------------------------------------------- issue 37
+
+@pytest.mark.parametrize("toml, words", [
+    ("[gnss]\nrate = 1\nposition_sigma = 1e308\n", "[gnss] position_sigma must be in (0, 10000]"),
+    ("[gnss]\nrate = 1e308\nposition_sigma = 1\n", "[gnss] rate must be in (0, 100]"),
+    ("[gnss]\nrate = 1\nposition_sigma = 1\nlever_arm = [1e9, 0, 0]\n",
+     "[gnss] lever_arm must be 3 numbers within ±100"),
+    ("[gnss]\nrate = 1\nposition_sigma = 1\n[initial]\nposition_sigma = 1e308\n",
+     "[initial] position_sigma must be in [0, 1e+07]"),
+    ("[baro]\nrate = 1\nsigma = 1\nbias_drift = 1e308\n", "[baro] bias_drift must be in [0, 10]"),
+])
+def test_absurd_values_name_their_key_and_range(sim, tmp_path, capsys, toml, words):
+    """A σ, rate, drift or lever arm beyond any physical sensor: one line naming the key and its
+    range (exit 70 or inf/nan in the files before issue 37)."""
+    a = tmp_path / "a.toml"
+    a.write_text(toml)
+    msg = _error(capsys, "simulate", sim / "drive.toml", "--rate", 50, "--out", tmp_path / "s.csv",
+                 "--aiding", a, "--aiding-out", tmp_path / "m")
+    assert words in msg, msg
+    assert not (tmp_path / "s.csv").exists() and not (tmp_path / "m").exists()
+
+
+def test_covariance_step_has_a_physical_range(sim, tmp_path, capsys):
+    msg = _error(capsys, "filter", sim / "imu.csv", "--initial", sim / "truth.csv", "--aiding",
+                 sim / "aiding.toml", "--measurements", sim / "meas", "--out",
+                 tmp_path / "n.csv", "--covariance-step", "1e308")
+    assert "--covariance-step must be in (0, 10] s" in msg, msg
+
+
+@pytest.mark.parametrize("toml, words", [
+    ("[gnss]\nrate = 1\nposition_sigma = 1\noutages = [[400, 500]]\n", "lies outside the record"),
+    ("[gnss]\nrate = 80\nposition_sigma = 1\n", "above the IMU rate of 50 Hz"),
+])
+def test_simulate_aiding_checks_everything_before_writing(sim, tmp_path, capsys, toml, words):
+    """An outage outside the record or an aid faster than the IMU used to fail after the IMU
+    and truth files were written (issue 37): now nothing is left."""
+    a = tmp_path / "a.toml"
+    a.write_text(toml)
+    msg = _error(capsys, "simulate", sim / "drive.toml", "--rate", 50, "--out", tmp_path / "s.csv",
+                 "--truth", tmp_path / "t.csv", "--aiding", a, "--aiding-out", tmp_path / "m")
+    assert words in msg, msg
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.toml"]
+
+
+def test_a_byte_order_mark_in_a_toml_is_read(sim, tmp_path, capsys):
+    """A TOML saved with a BOM (Windows editors) was 'malformed TOML at line 1'."""
+    a = tmp_path / "bom.toml"
+    a.write_bytes(b"\xef\xbb\xbf" + AIDING.encode())
+    code, _, err = _run(capsys, "filter", sim / "imu.csv", "--initial", sim / "truth.csv",
+                        "--imu", "ADIS16470", "--aiding", a, "--measurements", sim / "meas",
+                        "--out", tmp_path / "n.csv")
+    assert code == 0, err
+
+
+def test_an_absurd_initial_height_names_the_initial_file(tmp_path, capsys):
+    """A truth file's first row 1e9 m above the ellipsoid was reported as 'p0: …'."""
+    d = tmp_path
+    (d / "drive.toml").write_text(DRIVE)
+    assert main(["simulate", str(d / "drive.toml"), "--rate", "50", "--earth", "wgs84",
+                 "--origin", "45,7,300", "--out", str(d / "s.csv"),
+                 "--truth", str(d / "t.csv")]) == 0
+    lines = (d / "t.csv").read_text().splitlines()
+    cells = lines[1].split(",")
+    cells[3] = "1e9"
+    lines[1] = ",".join(cells)
+    (d / "bad.csv").write_text("\n".join(lines) + "\n")
+    (d / "a.toml").write_text("[baro]\nrate = 1\nsigma = 1\n")
+    capsys.readouterr()
+    msg = _error(capsys, "navigate", d / "s.csv", "--initial", d / "bad.csv", "--earth", "wgs84",
+                 "--out", d / "n.csv")
+    assert f"--initial {d / 'bad.csv'}" in msg and "height" in msg, msg

@@ -72,7 +72,8 @@ def file_outages(aiding: AidingConfig) -> list[tuple[float, float]]:
 def aided_covariance(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: float,
                      duration: float | None = None, *, kind: str = "increments",
                      covariance_step: float = 0.1, algorithm: str | None = None,
-                     g: float = G0, terms: bool = False) -> AlongTruth:
+                     g: float = G0, terms: bool = False,
+                     measurements: list | None = None) -> AlongTruth:
     """The aided filter linearised along the true motion (built once; passes are cheap).
 
     Parameters
@@ -81,8 +82,9 @@ def aided_covariance(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, ra
         The truth, the IMU (simulated and assumed), the aids, the IMU rate (Hz).
     duration : float, optional
         Seconds (default the motion's own).
-    kind, covariance_step, algorithm, g, terms
-        As :class:`~imunav.analysis.aided_covariance.AlongTruth`.
+    kind, covariance_step, algorithm, g, terms, measurements
+        As :class:`~imunav.analysis.aided_covariance.AlongTruth` (``measurements``: a user's
+        own aids, their models and reading times).
 
     Returns
     -------
@@ -90,7 +92,8 @@ def aided_covariance(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, ra
     """
     duration = aided_span(motion, rate, duration)
     at = AlongTruth(motion, imu, aiding, rate, duration, kind=kind,
-                    covariance_step=covariance_step, algorithm=algorithm, g=g, terms=terms)
+                    covariance_step=covariance_step, algorithm=algorithm, g=g, terms=terms,
+                    measurements=measurements)
     at.warnings += imu.missing_term_warnings()        # issue 38: no bias instability, say so
     return at
 
@@ -232,7 +235,8 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
                  tolerance: float, duration: float | None = None, *, runs: int | None = None,
                  seed: int = 0, scheduler: str | None = None, kind: str = "increments",
                  covariance_step: float = 0.1, algorithm: str | None = None,
-                 budget: bool = True, progress: bool = True, g: float = G0) -> dict:
+                 budget: bool = True, progress: bool = True, g: float = G0,
+                 measurements: list | None = None) -> dict:
     """The aided verdict: does the tolerance hold through every GNSS outage of ``aiding``?
 
     By the covariance analysis of the filter along the true motion (the true error covariance,
@@ -251,6 +255,9 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
         Of the Monte Carlo.
     kind, covariance_step, algorithm, g
         As :class:`~imunav.analysis.aided_covariance.AlongTruth`.
+    measurements : list of Aid, optional
+        A user's own aids (any :class:`~imunav.estimation.measurements.Measurement` with its
+        reading times; the Monte Carlo simulates their readings).
     budget : bool
         The error budget per source at the worst outage's end.
     progress : bool
@@ -270,7 +277,7 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
         aiding.gnss.check_within(0.0, duration)
     at = aided_covariance(motion, imu, aiding, rate, duration, kind=kind,
                           covariance_step=covariance_step, algorithm=algorithm, g=g,
-                          terms=budget)
+                          terms=budget, measurements=measurements)
     outs = file_outages(aiding)
     t, truth, filt, per, att = outage_pass(at, outs)
     warnings = list(at.warnings) + no_fix_warnings(at, outs)
@@ -279,7 +286,8 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
         warnings.append(f"the attitude error reaches a p95 of {att[i]:.3g} rad at t = "
                         f"{t[i]:.4g} s: beyond the filter's linearisation (the real EKF may "
                         "diverge where the covariance does not); check with --runs")
-    r: dict = {"motion": motion.name, "imu": imu.name, "rate_hz": float(rate),
+    r: dict = {"motion": motion.name, "earth": motion.frame, "imu": imu.name,
+               "rate_hz": float(rate),
                "tolerance_m": tolerance, "aiding": list(aiding.sensors),
                "method": "covariance", "runs": None, "seed": None,
                "max_p95_attitude_rad": float(att.max())}
@@ -287,7 +295,8 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
     if runs is not None:
         mc = aided_monte_carlo(motion, imu, aiding, rate, duration, runs, seed=seed, times=t,
                                algorithm=algorithm, covariance_step=covariance_step,
-                               scheduler=scheduler, progress=progress, g=g)
+                               scheduler=scheduler, progress=progress, g=g,
+                               measurements=measurements)
         p95 = mc.p95()
         mper = per_outage(t, p95, outs, outage_windows(at, outs, active_fixes(at, [outs])[0]))
         for o, c in zip(mper, per, strict=True):
@@ -341,7 +350,10 @@ def format_aided_verdict(r: dict) -> str:
     """
     how = ("covariance analysis of the filter" if r["method"] == "covariance" else
            f"Monte Carlo of the filter, {r['runs']} runs")
-    lines = [f"Aided verdict for motion {r['motion']}, IMU {r['imu']} at {r['rate_hz']:g} Hz "
+    where = (" on the rotating WGS-84 Earth" if r.get("earth") == "wgs84" else
+             " (flat frame)")
+    lines = [f"Aided verdict for motion {r['motion']}{where}, IMU {r['imu']} at "
+             f"{r['rate_hz']:g} Hz "
              f"with {', '.join(r['aiding'])} ({how}), tolerance {r['tolerance_m']:g} m "
              "(95th percentile of the position error):",
              f"  {'SUITABLE' if r['suitable'] else 'NOT SUITABLE'}: largest p95 "

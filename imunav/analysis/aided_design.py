@@ -377,7 +377,8 @@ def design_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
     for o in per:
         o["within_tolerance"] = bool(o["position_p95_max_m"] <= tolerance)
     worst = int(np.argmax(truth))
-    r: dict = {"motion": motion.name, "imu": imu.name, "rate_hz": float(rate),
+    r: dict = {"motion": motion.name, "earth": motion.frame, "imu": imu.name,
+               "rate_hz": float(rate),
                "tolerance_m": tolerance, "aiding": list(aiding.sensors),
                "max_p95_position_m": float(truth[worst]), "time_max_p95_s": float(t[worst]),
                "outages": per,
@@ -416,7 +417,10 @@ def format_outage_design(r: dict) -> str:
     -------
     str
     """
-    lines = [f"Aided design for motion {r['motion']}, IMU {r['imu']} at {r['rate_hz']:g} Hz "
+    where = (" on the rotating WGS-84 Earth" if r.get("earth") == "wgs84" else
+             " (flat frame)")
+    lines = [f"Aided design for motion {r['motion']}{where}, IMU {r['imu']} at "
+             f"{r['rate_hz']:g} Hz "
              f"with {', '.join(r['aiding'])}, tolerance {r['tolerance_m']:g} m (95th "
              "percentile of the position error):"]
     if "max_p95_position_m" in r:

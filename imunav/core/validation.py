@@ -296,7 +296,8 @@ def read_toml(path, what: str) -> dict:
     ------
     ImunavError
         One line, for a missing file or a directory, text that is not UTF-8 (with the byte
-        offset), or malformed TOML (with tomllib's line and column).
+        offset; a byte-order mark at the start is allowed), or malformed TOML (with tomllib's
+        line and column).
     """
     path = Path(path)
     if path.is_dir():
@@ -304,7 +305,7 @@ def read_toml(path, what: str) -> dict:
     if not path.is_file():
         raise ImunavError(f"{what} not found: {path}")
     try:
-        text = path.read_bytes().decode("utf-8")
+        text = path.read_bytes().decode("utf-8-sig")        # a byte-order mark is allowed
     except UnicodeDecodeError as exc:
         raise ImunavError(f"{what} {path} is not UTF-8 text (byte {exc.start})") from None
     try:

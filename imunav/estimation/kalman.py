@@ -253,7 +253,8 @@ def gain(P: FloatArray, H: FloatArray, R: FloatArray) -> tuple[FloatArray, Float
         L = np.linalg.cholesky(S)
     except np.linalg.LinAlgError:
         raise ImunavError("the innovation covariance H P Hᵀ + R is not positive definite "
-                          "(check R)") from None
+                          "(check the measurement noise R and the covariance P: an initial or "
+                          "inflated σ too large, or too small, for double precision)") from None
     Y = np.linalg.solve(L, HP)                                 # L⁻¹ H P
     K = np.swapaxes(np.linalg.solve(np.swapaxes(L, -1, -2), Y), -1, -2)   # (S⁻¹ H P)ᵀ
     return K, S, HP
