@@ -35,7 +35,7 @@ from imunav.core.kernels import FloatArray
 from imunav.core.resources import check_memory
 from imunav.core.validation import ImunavError
 from imunav.estimation.alignment import WINDOW, check_alignment, levelled_sources
-from imunav.estimation.error_model import LazyTrajectory, Trajectory, error_model, linearise
+from imunav.estimation.error_model import LazyTrajectory, Trajectory, frame_model, linearise
 from imunav.estimation.propagation import CHUNK, propagate, propagate_chunks
 from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import ImuModel
@@ -702,7 +702,7 @@ def covariance(motion: BaseMotion, model: ImuModel, rate: float, duration: float
     traj = trajectory or Trajectory.of(motion, rate, duration, g)
     sources, warnings = linearise(model, traj, output, model.decimation(rate))
     sources = _aligned(sources, motion, traj, rate, g, alignment, align_window)
-    em = error_model(traj, vertical)
+    em = frame_model(traj, vertical)
     terms = {s.name: em.local(traj, P) for s, P in zip(sources, propagate(sources, traj, em),
                                                         strict=True)}
     total = _sum(list(terms.values())) if terms else np.zeros((traj.t.size, 9, 9))
@@ -811,7 +811,7 @@ def covariance_summary(motion: BaseMotion, model: ImuModel, rate: float,
     tracks = {k: MaxQuantileTracker(p) for k in [*names, None]} if maxima and names else {}
     bar = _progress(n, sources, progress)
     gi = 1                                                   # grid[0]: the initial errors
-    for lo, hi, covs in propagate_chunks(sources, traj, error_model(traj, vertical), chunk=chunk,
+    for lo, hi, covs in propagate_chunks(sources, traj, frame_model(traj, vertical), chunk=chunk,
                                          local=True):
         tot = _sum(covs) if covs else np.zeros((hi - lo, 9, 9))
         at = grid[gi:gi + np.searchsorted(grid[gi:], hi, side="right")] - lo - 1
