@@ -49,6 +49,7 @@ from imunav.analysis.metrics import NavErrors, nav_errors
 from imunav.analysis.montecarlo import monte_carlo
 from imunav.analysis.roundtrip import round_trip
 from imunav.core.constants import G0
+from imunav.core.deprecation import deprecated_names
 from imunav.core.rotations import (
     euler_to_quat,
     from_scipy,
@@ -71,9 +72,12 @@ from imunav.earth import normal_gravity
 from imunav.io.realdata import read_generic, read_ximu, read_ximu3
 from imunav.motion import BaseMotion, EarthMotion, Motion, PoseMotion, WaypointMotion
 from imunav.sensors import PRESETS, ImuModel, ImuSignals, simulate_imu, truth_states
-from imunav.strapdown import ALGORITHMS, DEFAULT_ALGORITHM, NavResult, navigate
+from imunav.strapdown import ALGORITHMS, DEFAULT_ALGORITHM, navigate
 
 _aliases.install()
+
+#: Old names of the facade: ``NavResult`` (one name for the navigation result: :class:`States`).
+__getattr__ = deprecated_names(__name__, {"NavResult": (States, "imunav.States")})
 
 __version__ = "0.2.0"
 
@@ -88,7 +92,6 @@ __all__ = [
     "ImunavError",
     "Motion",
     "NavErrors",
-    "NavResult",
     "PRESETS",
     "PoseMotion",
     "States",

@@ -68,7 +68,7 @@ from imunav.sensors.allan_report import format_allan, imu_toml
 from imunav.sensors.models import ImuModel
 from imunav.sensors.presets import PRESETS
 from imunav.sensors.simulate import interval_count, signal_chunks, truth_chunks
-from imunav.strapdown.alignment import level_attitude
+from imunav.strapdown.initial import level_attitude
 from imunav.strapdown.registry import ALGORITHMS, navigate, navigate_chunks, resolve
 
 

@@ -23,7 +23,7 @@ from imunav.estimation.alignment import levelling_jacobian, window_statistics
 from imunav.motion.catalog import figure_eight
 from imunav.sensors.models import ImuModel, TriadModel
 from imunav.sensors.terms import SensorErrorStates
-from imunav.strapdown.alignment import level_attitude
+from imunav.strapdown.initial import level_attitude
 
 STILL = Motion(duration=20.0, name="still")
 

@@ -13,7 +13,7 @@ With ``alignment="level"`` every run starts from its own levelled attitude: the 
 the motion's initial attitude for ``align_window`` seconds before ``t = 0`` (the ideal signals
 of rest are prepended, so each run's errors run on from the window into the motion), and roll and
 pitch come from that run's mean measured specific force over the window
-(:func:`imunav.strapdown.alignment.level_attitude`, the heading given) — what
+(:func:`imunav.strapdown.initial.level_attitude`, the heading given) — what
 :mod:`imunav.estimation.alignment` models in the covariance analysis.
 
 May import: ``imunav.core``, ``imunav.earth``, ``imunav.motion``, ``imunav.sensors``,
@@ -36,7 +36,7 @@ from imunav.estimation.alignment import WINDOW, check_alignment, window_samples
 from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import ImuModel, measure
 from imunav.sensors.simulate import interval_count, simulate_imu
-from imunav.strapdown.alignment import level_attitude
+from imunav.strapdown.initial import level_attitude
 from imunav.strapdown.registry import navigate_batch
 
 

@@ -18,7 +18,7 @@ from imunav.core.kernels import FloatArray, quat_angle, quat_conj, quat_mul
 from imunav.core.validation import ImunavError
 from imunav.io.realdata import READERS, Recording, data_path, read_generic, read_ximu, read_ximu3
 from imunav.sensors.signals import ImuSignals
-from imunav.strapdown.alignment import level_attitude, remove_static_biases
+from imunav.strapdown.initial import level_attitude, remove_static_biases
 from imunav.strapdown.registry import navigate
 
 __all__ = ["READERS", "Recording", "data_path", "device_as_q_nb",

@@ -49,7 +49,7 @@ from imunav.motion.laws import T
 from imunav.papers.records import record, small
 from imunav.plotting.style import colour, figure, style
 from imunav.sensors.simulate import simulate_imu
-from imunav.strapdown.alignment import gravity_reading, level_attitude, remove_static_biases
+from imunav.strapdown.initial import gravity_reading, level_attitude, remove_static_biases
 from imunav.strapdown.scan import cumulative_product
 
 #: The paper, as its text prints it (the notebook's and the book's bibliography).
@@ -96,7 +96,7 @@ def initial_attitude_from_accel(accel: npt.ArrayLike, g: float = G0, tol: float 
                                 yaw: float = 0.0) -> FloatArray:
     """q_nb from the mean resting specific force: roll and pitch from gravity, yaw given, with the
     paper's necessary condition √(a_X² + a_Y² + a_Z²) ≈ g (within ``tol``). The general
-    levelling of :func:`imunav.strapdown.alignment.level_attitude`."""
+    levelling of :func:`imunav.strapdown.initial.level_attitude`."""
     return level_attitude(accel, g, tol, yaw)
 
 
@@ -104,7 +104,7 @@ def zero_biases(gyro: FloatArray, accel: FloatArray, window: slice, q0: FloatArr
                 g: float = G0) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Assumption A: subtract pre-event offsets (gyro: mean; accelerometer: mean minus the
     gravity reading of the initial orientation). Returns (gyro, accel, gyro_bias, accel_bias);
-    :func:`imunav.strapdown.alignment.remove_static_biases`."""
+    :func:`imunav.strapdown.initial.remove_static_biases`."""
     return remove_static_biases(gyro, accel, window, q0, g)
 
 

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from imunav.core.deprecation import REMOVAL
 from imunav.core.kernels import FloatArray
 
 __all__ = ["DRAW_ORDER", "STAGES", "TRIADS", "LinearisationContext", "Parameter",
@@ -78,7 +79,7 @@ class LinearisationContext:
     h : float
         Output sample interval (s).
     kind : {"increments", "rates"}
-        The signal kind the analysis is for (``output`` until 0.3: a deprecated alias).
+        The signal kind the analysis is for (``output``, its former name, warns).
     decimate : int
         Internal samples per output sample.
     peak : float
@@ -97,8 +98,8 @@ class LinearisationContext:
     @property
     def output(self) -> str:
         """Deprecated: the signal kind, now :attr:`kind` (one name per argument, issue 35)."""
-        warnings.warn("LinearisationContext.output is now LinearisationContext.kind; output "
-                      "will stop working in imunav 0.4", DeprecationWarning, stacklevel=2)
+        warnings.warn(f"LinearisationContext.output is now LinearisationContext.kind; output "
+                      f"will stop working in {REMOVAL}", DeprecationWarning, stacklevel=2)
         return self.kind
 
 
