@@ -29,7 +29,8 @@ ALIASES: dict[str, tuple[tuple[str, ...], dict[str, str]]] = {
     "imunav.rotations": (("imunav.core.rotations",), {}),
     "imunav.units": (("imunav.core.units",), {}),
     # issue 35: the figure style moved from the ground floor into the plotting room
-    "imunav.core.style": (("imunav.plotting.style",), {}),
+    "imunav.core.style": (("imunav.plotting.style",),
+                          {"style": "imunav.plotting.style:thing_style"}),
     "imunav.simulate": (("imunav.sensors.simulate", "imunav.sensors.signals"),
                         {"TruthStates": "imunav.core.states:States", "G0": "imunav.core.constants:G0"}),
     "imunav.assess": (("imunav.analysis.metrics",), {}),

@@ -415,7 +415,7 @@ def cmd_simulate(args) -> int:
     if args.truth:
         check_disk(out["--truth"], (n + 1) * ROW_BYTES["states"], "--truth")
     clipped = [0]
-    chunks = signal_chunks(motion, args.rate, duration, output=args.output, g=g, imu=model,
+    chunks = signal_chunks(motion, args.rate, duration, kind=args.output, g=g, imu=model,
                            seed=args.seed,
                            on_clip=lambda c: clipped.__setitem__(0, clipped[0] + c))
     rows = 0

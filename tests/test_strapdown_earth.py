@@ -25,7 +25,7 @@ ON_EARTH = EarthMotion(MOTION, ORIGIN)
 
 
 def _run(motion, kind, name, rate, earth):
-    sig = simulate_imu(motion, rate, output=kind)
+    sig = simulate_imu(motion, rate, kind=kind)
     nav = navigate(sig, *motion.states([sig.t0]).initial(), algorithm=name, earth=earth)
     return nav, nav_errors(nav, motion)
 
@@ -67,7 +67,7 @@ def test_an_hour_at_rest_at_100_hz_does_not_depend_on_the_piece_length(monkeypat
     from imunav.strapdown import stream
 
     m = EarthMotion(Motion(yaw=1.9, pitch=0.17, roll=-0.087, duration=3600.0), ORIGIN)
-    sig = simulate_imu(m, 100.0, output="increments")
+    sig = simulate_imu(m, 100.0, kind="increments")
     truth = m.states(sig.state_times())
     err = {}
     for seconds in (64.0, 640.0):
@@ -209,7 +209,7 @@ def test_every_algorithm_keeps_its_order_and_its_flat_frame_error(kind, name):
 
 
 def test_streaming_in_small_chunks_equals_one_chunk(rng):
-    sig = simulate_imu(ON_EARTH, 50.0, 6.02, output="increments")
+    sig = simulate_imu(ON_EARTH, 50.0, 6.02, kind="increments")
     q0, v0, p0 = ON_EARTH.states([sig.t0]).initial()
     whole = navigate(sig, q0, v0, p0, algorithm="poly8_m6", earth="wgs84")
     nav = StreamNavigator("increments", sig.rate, q0, v0, p0, algorithm="poly8_m6", chunk=37,
@@ -232,7 +232,7 @@ def test_streaming_in_small_chunks_equals_one_chunk(rng):
 def test_batched_runs_equal_single_runs(rng):
     from imunav import ImuSignals
 
-    sig = simulate_imu(ON_EARTH, 50.0, 4.0, output="increments")
+    sig = simulate_imu(ON_EARTH, 50.0, 4.0, kind="increments")
     R = 3
     G = sig.gyro[:, None] + 1e-4 * rng.normal(size=(1, R, 3))
     A = sig.accel[:, None] + 1e-2 * rng.normal(size=(1, R, 3))
@@ -286,7 +286,7 @@ def test_side_by_side_with_pyins_integrator_on_the_same_increments():
                            yaw="0.3*sin(0.2*t)", pitch="0.05*sin(0.3*t)", roll="0.1*sin(0.5*t)",
                            duration=60.0), ORIGIN)
     rate = 100.0
-    sig = simulate_imu(m, rate, output="increments")
+    sig = simulate_imu(m, rate, kind="increments")
     t = sig.state_times()
     truth = m.states(t)
     from imunav.core.rotations import quat_to_euler
@@ -315,7 +315,7 @@ def test_side_by_side_with_pyins_integrator_on_the_same_increments():
 
 
 def test_frame_arguments_are_checked():
-    sig = simulate_imu(ON_EARTH, 50.0, 1.0, output="increments")
+    sig = simulate_imu(ON_EARTH, 50.0, 1.0, kind="increments")
     x0 = ON_EARTH.states([0.0]).initial()
     with pytest.raises(ImunavError, match="g belongs to the flat frame"):
         navigate(sig, *x0, earth="wgs84", g=9.8)

@@ -179,7 +179,7 @@ def flat_frame_error(motion: BaseMotion, origin: tuple[float, float, float], rat
         against the local truth.
     """
     on_earth = EarthMotion(motion, origin)
-    sig = simulate_imu(on_earth, rate, duration, output="increments")
+    sig = simulate_imu(on_earth, rate, duration, kind="increments")
     g = float(normal_gravity(origin[0], origin[2]))
     nav = navigate(sig, *motion.states([sig.t0]).initial(), algorithm=algorithm, g=g)
     e = nav_errors(nav, motion)

@@ -22,8 +22,9 @@ __all__ = ["RENAMED_ARGUMENTS", "RENAMED_NAMES", "callable_module", "deprecated_
 
 #: Every function whose keyword arguments were renamed: ``(function, {old: new})``.
 RENAMED_ARGUMENTS: list[tuple[Callable, dict[str, str]]] = []
-#: Every renamed module attribute: ``"module.old"`` → ``(module, old, "where the new one is")``.
-RENAMED_NAMES: dict[str, tuple[str, str, str]] = {}
+#: Every renamed module attribute: ``"module.old"`` → ``(module, old, dotted path of the new
+#: name, the object)``; a module that answers calls for its former function: ``"module()"``.
+RENAMED_NAMES: dict[str, tuple[str, str, str, object]] = {}
 
 #: When the old names go.
 REMOVAL = "imunav 0.3"
@@ -72,7 +73,8 @@ def renamed(**old_to_new: str) -> Callable[[Callable], Callable]:
     return decorate
 
 
-def deprecated_names(module: str, names: dict[str, tuple[object, str]]) -> Callable[[str], object]:
+def deprecated_names(module: str, names: dict[str, tuple[object, str]],
+                     advice: dict[str, str] | None = None) -> Callable[[str], object]:
     """A module ``__getattr__`` that answers the module's former attribute names with a warning.
 
     ``__getattr__ = deprecated_names(__name__, {"NavResult": (States, "imunav.States")})``:
@@ -83,21 +85,25 @@ def deprecated_names(module: str, names: dict[str, tuple[object, str]]) -> Calla
     module : str
         The module's ``__name__``.
     names : dict
-        ``{old name: (the object it now is, where to find it under its new name)}``.
+        ``{old name: (the object it now is, the dotted path of its new name)}``.
+    advice : dict, optional
+        ``{old name: text}`` added to the warning (another way to the same thing).
 
     Returns
     -------
     callable
         The module's ``__getattr__`` (it raises AttributeError for any other name).
     """
-    for old, (_, new) in names.items():
-        RENAMED_NAMES[f"{module}.{old}"] = (module, old, new)
+    advice = advice or {}
+    for old, (value, new) in names.items():
+        RENAMED_NAMES[f"{module}.{old}"] = (module, old, new, value)
 
     def __getattr__(name: str):
         if name in names:
             value, new = names[name]
+            more = f" ({advice[name]})" if name in advice else ""
             warnings.warn(f"{module}.{name} is deprecated and will be removed in {REMOVAL}; "
-                          f"use {new}", DeprecationWarning, stacklevel=2)
+                          f"use {new}{more}", DeprecationWarning, stacklevel=2)
             return value
         raise AttributeError(f"module {module!r} has no attribute {name!r}")
 
@@ -122,9 +128,9 @@ def callable_module(module: str, old: str, func: Callable, new: str) -> None:
     func : callable
         What it is now.
     new : str
-        Where to find it under its new name.
+        The dotted path of its new name.
     """
-    RENAMED_NAMES[f"{module}()"] = (module, "()", new)
+    RENAMED_NAMES[f"{module}()"] = (module, "()", new, func)
 
     class _Callable(types.ModuleType):
         def __call__(self, *args, **kwargs):
