@@ -179,7 +179,8 @@ def thermal_drift():
 
 def test_a_term_defined_in_a_test_is_parsed_simulated_linearised_assessed_and_shown(
         thermal_drift):
-    from imunav import assess_covariance, covariance, design, format_design, monte_carlo
+    from imunav import covariance, design, format_design, monte_carlo
+    from imunav.analysis.assessment import assess_covariance
     from imunav.motion.catalog import stationary
     from imunav.sensors.simulate import simulate_imu
 
