@@ -80,6 +80,7 @@ NAMES = sorted(k for k, v in D.RENAMED_NAMES.items() if v[1] != "()")
 #: decorator removed before its release would drop the old spelling silently, so each is listed.
 ISSUE_35_ARGUMENTS = {
     "imunav.sensors.signal_terms.aliasing_gain": {"output": "kind"},
+    "imunav.sensors.term_base.LinearisationContext.__init__": {"output": "kind"},
     "imunav.sensors.models.MeasureStream.__init__": {"model": "imu"},
     "imunav.sensors.models.measure": {"model": "imu"},
     "imunav.sensors.simulate.ideal_chunks": {"output": "kind"},
@@ -190,6 +191,8 @@ def test_the_linearisation_context_answers_output():
     assert ctx.kind == "rates"
     with pytest.warns(DeprecationWarning, match="now LinearisationContext.kind"):
         assert ctx.output == "rates"
+    with pytest.warns(DeprecationWarning, match="'output' is now 'kind'"):
+        assert LinearisationContext("gyro", 0.01, output="rates") == ctx
 
 
 # ------------------------------------------------------------------ the new names are used

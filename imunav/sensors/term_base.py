@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from imunav.core.deprecation import REMOVAL
+from imunav.core.deprecation import REMOVAL, renamed
 from imunav.core.kernels import FloatArray
 
 __all__ = ["DRAW_ORDER", "STAGES", "TRIADS", "LinearisationContext", "Parameter",
@@ -101,6 +101,10 @@ class LinearisationContext:
         warnings.warn(f"LinearisationContext.output is now LinearisationContext.kind; output "
                       f"will stop working in {REMOVAL}", DeprecationWarning, stacklevel=2)
         return self.kind
+
+
+#: ``LinearisationContext(..., output=...)``, its former keyword, still constructs it (warning).
+LinearisationContext.__init__ = renamed(output="kind")(LinearisationContext.__init__)
 
 
 def no_input(u: FloatArray, f: FloatArray) -> FloatArray:
