@@ -181,7 +181,7 @@ class BusyCore:
 def numpy_threads(motion, rate, n):
     """The exact increments with imunav's BLAS limit lifted (numpy's own thread count)."""
     with imunav.blas_threads(None):
-        return simulate_imu(motion, rate, n / rate, output="increments")
+        return simulate_imu(motion, rate, n / rate, kind="increments")
 
 
 #: The Earth bench's vehicle: 15 m/s east, weaving ±100 m north, turning, climbing and dipping
@@ -205,8 +205,8 @@ def earth_bench(n, rate, rounds):
     local = Motion(**EARTH_LAWS, duration=n / rate)
     origin = tuple(np.radians(EARTH_ORIGIN_DEG[:2])) + (EARTH_ORIGIN_DEG[2],)
     on_earth = EarthMotion(local, origin)
-    flat_sig = simulate_imu(local, rate, n / rate, output="increments")
-    sig = simulate_imu(on_earth, rate, n / rate, output="increments")
+    flat_sig = simulate_imu(local, rate, n / rate, kind="increments")
+    sig = simulate_imu(on_earth, rate, n / rate, kind="increments")
     x_flat = local.states([0.0]).initial()
     x_earth = on_earth.states([0.0]).initial()
     # pyins: its increments DataFrame (the first sample duplicated, as generate_imu gives it),
@@ -525,9 +525,9 @@ def main(argv=None):
     # ---------------------------------------------------------------- inputs, compiled once
     motion = spinning_cone(duration=N / rate)
     fig8 = figure_eight(duration=N / rate)
-    simulate_imu(motion, rate, 1.0, output="increments")         # block weights: once a process
-    sig = simulate_imu(motion, rate, N / rate, output="increments")
-    sig8 = simulate_imu(fig8, rate, N / rate, output="increments")
+    simulate_imu(motion, rate, 1.0, kind="increments")         # block weights: once a process
+    sig = simulate_imu(motion, rate, N / rate, kind="increments")
+    sig8 = simulate_imu(fig8, rate, N / rate, kind="increments")
     q0 = motion.attitude(np.array([0.0]))[0]
     dth, dv, g = sig.gyro, sig.accel, sig.g
     jit = compiled_reference()
@@ -553,7 +553,7 @@ def main(argv=None):
     from ahrs.filters import AngularRate
 
     na = a.ahrs_samples
-    gyr = simulate_imu(motion, rate, na / rate, output="rates").gyro
+    gyr = simulate_imu(motion, rate, na / rate, kind="rates").gyro
     tt, lla, rph = pyins_inputs(fig8, sig8.t, rate)
     from pyins import sim as pyins_sim
 
@@ -576,12 +576,12 @@ def main(argv=None):
     # sides of a ratio next to each other, so that they see the same background load)
     contenders = {
         "simulate_rates": ("imunav simulate_imu, rates (figure-eight laws)", N,
-                           lambda: simulate_imu(fig8, rate, N / rate, output="rates")),
+                           lambda: simulate_imu(fig8, rate, N / rate, kind="rates")),
         "simulate_increments": ("imunav simulate_imu, exact increments (figure-eight laws)", N,
-                                lambda: simulate_imu(fig8, rate, N / rate, output="increments")),
+                                lambda: simulate_imu(fig8, rate, N / rate, kind="increments")),
         "simulate_increments_loaded": ("  the same, with a second process busy on one core", N,
                                        lambda: simulate_imu(fig8, rate, N / rate,
-                                                            output="increments")),
+                                                            kind="increments")),
         # what the BLAS limit buys: the same call with numpy's default threads (two here)
         "simulate_increments_numpy_threads": ("  the same, numpy's default BLAS threads", N,
                                               lambda: numpy_threads(fig8, rate, N)),
@@ -595,7 +595,7 @@ def main(argv=None):
                            lambda: navigate(sig, q0)),
         "cli_navigate": ("imunav navigate CLI, 1e6-row CSV in → CSV out (in-process)", N, run_cli),
         "simulate": ("imunav simulate_imu, increments (spinning cone)", N,
-                     lambda: simulate_imu(motion, rate, N / rate, output="increments")),
+                     lambda: simulate_imu(motion, rate, N / rate, kind="increments")),
         "monte_carlo": (f"imunav monte_carlo {R} runs × {n_mc} samples (MPU-6050)", R * n_mc,
                         lambda: monte_carlo(mc_motion, mpu, rate, n_mc / rate, runs=R, seed=1,
                                             progress=False)),

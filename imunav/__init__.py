@@ -41,14 +41,20 @@ May import: anything in imunav (this is the package's facade: it exports what th
 """
 
 from imunav import _aliases
-from imunav.analysis.assessment import assess, assess_covariance, format_verdict
+from imunav.analysis.aided_assessment import assess_aided, format_aided_verdict
+from imunav.analysis.aided_design import design_aided, format_outage_design
+from imunav.analysis.aided_montecarlo import aided_monte_carlo
+from imunav.analysis.assessment import assess, format_verdict
+from imunav.analysis.assessment import assess_covariance as _assess_covariance
 from imunav.analysis.covariance import covariance
 from imunav.analysis.design import design, format_design
 from imunav.analysis.family import run_family
 from imunav.analysis.metrics import NavErrors, nav_errors
 from imunav.analysis.montecarlo import monte_carlo
+from imunav.analysis.outage import find_outage
 from imunav.analysis.roundtrip import round_trip
 from imunav.core.constants import G0
+from imunav.core.deprecation import deprecated_names
 from imunav.core.rotations import (
     euler_to_quat,
     from_scipy,
@@ -68,43 +74,71 @@ from imunav.core.states import States
 from imunav.core.threads import blas_threads, set_blas_threads
 from imunav.core.validation import ImunavError
 from imunav.earth import normal_gravity
+from imunav.estimation.filters import FilterResult, run_filter, run_filter_batch, run_smoother
 from imunav.io.realdata import read_generic, read_ximu, read_ximu3
 from imunav.motion import BaseMotion, EarthMotion, Motion, PoseMotion, WaypointMotion
 from imunav.sensors import PRESETS, ImuModel, ImuSignals, simulate_imu, truth_states
-from imunav.strapdown import ALGORITHMS, DEFAULT_ALGORITHM, NavResult, navigate
+from imunav.sensors.aids import (
+    Aid,
+    AidingConfig,
+    AidingData,
+    Measurement,
+    NavPoint,
+    aids_from,
+    simulate_aiding,
+)
+from imunav.strapdown import ALGORITHMS, DEFAULT_ALGORITHM, navigate
 
 _aliases.install()
+
+#: Old names of the facade (issue 35): ``NavResult`` (one name for the navigation result:
+#: :class:`States`); ``assess_covariance`` (one entry for the verdict: :func:`assess`, whose
+#: default method it is; it stays in :mod:`imunav.analysis.assessment`).
+__getattr__ = deprecated_names(__name__, {
+    "NavResult": (States, "imunav.States"),
+    "assess_covariance": (_assess_covariance, "imunav.analysis.assessment.assess_covariance")},
+    advice={"assess_covariance": "or imunav.assess, whose method it is without runs"})
 
 __version__ = "0.2.0"
 
 __all__ = [
+    "Aid",
+    "aided_monte_carlo",
+    "AidingConfig",
+    "AidingData",
+    "aids_from",
     "ALGORITHMS",
-    "BaseMotion",
-    "DEFAULT_ALGORITHM",
-    "EarthMotion",
-    "G0",
-    "ImuModel",
-    "ImuSignals",
-    "ImunavError",
-    "Motion",
-    "NavErrors",
-    "NavResult",
-    "PRESETS",
-    "PoseMotion",
-    "States",
     "assess",
-    "assess_covariance",
+    "assess_aided",
+    "BaseMotion",
     "blas_threads",
     "covariance",
+    "DEFAULT_ALGORITHM",
     "design",
+    "design_aided",
+    "EarthMotion",
     "euler_to_quat",
+    "FilterResult",
+    "find_outage",
+    "format_aided_verdict",
     "format_design",
+    "format_outage_design",
     "format_verdict",
     "from_scipy",
+    "G0",
+    "ImuModel",
+    "ImunavError",
+    "ImuSignals",
+    "Measurement",
     "monte_carlo",
+    "Motion",
     "nav_errors",
+    "NavErrors",
     "navigate",
+    "NavPoint",
     "normal_gravity",
+    "PoseMotion",
+    "PRESETS",
     "quat_angle",
     "quat_conj",
     "quat_exp",
@@ -120,9 +154,14 @@ __all__ = [
     "read_ximu3",
     "round_trip",
     "run_family",
+    "run_filter",
+    "run_filter_batch",
+    "run_smoother",
     "set_blas_threads",
+    "simulate_aiding",
     "simulate_imu",
+    "States",
     "to_scipy",
-    "WaypointMotion",
     "truth_states",
+    "WaypointMotion",
 ]

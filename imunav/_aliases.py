@@ -5,6 +5,11 @@
 builds a module of that name holding the public names of the modules that replaced it, and
 issues a :class:`DeprecationWarning` naming them. Remove this file in 0.3.
 
+Old *names* (a renamed function, argument or attribute) are the other half of the table: each
+is declared where it lived, through :mod:`imunav.core.deprecation` (``renamed``,
+``deprecated_names``, ``callable_module``), which records them; ``tests/test_deprecations.py``
+calls every entry of both.
+
 May import: anything in imunav (only when an old name is imported).
 """
 
@@ -16,13 +21,16 @@ import importlib.machinery
 import sys
 import warnings
 
+from imunav.core.deprecation import REMOVAL
+
 #: old module → (new modules whose names it holds, {old name: "module:new name"}).
 ALIASES: dict[str, tuple[tuple[str, ...], dict[str, str]]] = {
     "imunav.errors": (("imunav.core.validation",), {}),
     "imunav.rotations": (("imunav.core.rotations",), {}),
     "imunav.units": (("imunav.core.units",), {}),
     # issue 35: the figure style moved from the ground floor into the plotting room
-    "imunav.core.style": (("imunav.plotting.style",), {}),
+    "imunav.core.style": (("imunav.plotting.style",),
+                          {"style": "imunav.plotting.style:thing_style"}),
     "imunav.simulate": (("imunav.sensors.simulate", "imunav.sensors.signals"),
                         {"TruthStates": "imunav.core.states:States", "G0": "imunav.core.constants:G0"}),
     "imunav.assess": (("imunav.analysis.metrics",), {}),
@@ -44,6 +52,8 @@ ALIASES: dict[str, tuple[tuple[str, ...], dict[str, str]]] = {
     "imunav.strapdown.earth": (("imunav.strapdown.rotating",), {}),
     "imunav.analysis.aided": (("imunav.analysis.aided_montecarlo",), {}),
     "imunav.estimation.performance": (("imunav.analysis.aided_covariance",), {}),
+    # issue 35: one module per name (imunav.estimation.alignment is the other "alignment")
+    "imunav.strapdown.alignment": (("imunav.strapdown.initial",), {}),
 }
 
 
@@ -55,7 +65,7 @@ class _Loader(importlib.abc.Loader):
         return None
 
     def exec_module(self, module):
-        warnings.warn(f"{module.__name__} is deprecated and will be removed in imunav 0.3; use "
+        warnings.warn(f"{module.__name__} is deprecated and will be removed in {REMOVAL}; use "
                       f"{', '.join(self.targets)}", DeprecationWarning, stacklevel=2)
         for name in self.targets:
             m = importlib.import_module(name)

@@ -72,7 +72,7 @@ from imunav.sensors.allan_report import format_allan, imu_toml
 from imunav.sensors.models import ImuModel
 from imunav.sensors.presets import PRESETS
 from imunav.sensors.simulate import interval_count, signal_chunks, truth_chunks
-from imunav.strapdown.alignment import level_attitude
+from imunav.strapdown.initial import level_attitude
 from imunav.strapdown.registry import ALGORITHMS, navigate, navigate_chunks, resolve
 
 
@@ -478,7 +478,7 @@ def cmd_simulate(args) -> int:
                                imu_rate=args.rate)
         _check_aids_rate(aiding, args.rate)
     clipped = [0]
-    chunks = signal_chunks(motion, args.rate, duration, output=args.output, g=g, imu=model,
+    chunks = signal_chunks(motion, args.rate, duration, kind=args.output, g=g, imu=model,
                            seed=args.seed,
                            on_clip=lambda c: clipped.__setitem__(0, clipped[0] + c))
     rows = 0

@@ -25,7 +25,7 @@ def _quickstart(out: Path) -> list[dict]:
     import matplotlib.pyplot as plt
 
     recs = []
-    res = round_trip(rate=100.0, output="increments")
+    res = round_trip(rate=100.0, kind="increments")
     fig = plotting.plot_run(res)
     fig.savefig(out / "quickstart_round_trip.png", dpi=150)
     plt.close(fig)

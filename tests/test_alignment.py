@@ -23,7 +23,7 @@ from imunav.estimation.alignment import levelling_jacobian, window_statistics
 from imunav.motion.catalog import figure_eight
 from imunav.sensors.models import ImuModel, TriadModel
 from imunav.sensors.terms import SensorErrorStates
-from imunav.strapdown.alignment import level_attitude
+from imunav.strapdown.initial import level_attitude
 
 STILL = Motion(duration=20.0, name="still")
 
@@ -98,11 +98,11 @@ def test_levelled_noise_and_random_walk_of_the_window():
     whose leaked gravity grows as ½ g φ t²; a random walk has grown over the window."""
     N, W, T = 1e-3, 10.0, 20.0
     cov = covariance(STILL, ImuModel(accel=TriadModel(noise_density=N)), 50.0,
-                     alignment="level", align_window=W, output="rates")
+                     alignment="level", align_window=W, kind="rates")
     P0 = cov.total[0]
     np.testing.assert_allclose(np.diag(P0)[:2], N * N / W / G0 ** 2, rtol=1e-12)
     assert P0[2, 2] == 0.0
-    truth = covariance(STILL, ImuModel(accel=TriadModel(noise_density=N)), 50.0, output="rates")
+    truth = covariance(STILL, ImuModel(accel=TriadModel(noise_density=N)), 50.0, kind="rates")
     extra = (0.5 * G0 * T * T) ** 2 * N * N / W / G0 ** 2        # the tilt's ½ g φ t²
     np.testing.assert_allclose(cov.total[-1, 6, 6] - truth.total[-1, 6, 6], extra, rtol=1e-9)
     K = 1e-3
@@ -153,7 +153,7 @@ def test_levelled_covariance_agrees_with_levelled_monte_carlo(motion, model, out
     the position and attitude errors (at the start and at ten times), in total and for the
     terms the levelling touches."""
     rate = 50.0
-    cov = covariance(motion, model, rate, output=output, alignment="level")
+    cov = covariance(motion, model, rate, kind=output, alignment="level")
     assert not cov.warnings
     idx = np.linspace(0, cov.t.size - 1, 11).round().astype(int)
     for term in [None, "accel.bias", "accel.bias_instability", "accel.misalignment",
@@ -161,7 +161,7 @@ def test_levelled_covariance_agrees_with_levelled_monte_carlo(motion, model, out
         if term is not None and term not in cov.terms:
             continue
         m = model if term is None else model.only(term)
-        mc = monte_carlo(motion, m, rate, runs=RUNS, seed=17, output=output, progress=False,
+        mc = monte_carlo(motion, m, rate, runs=RUNS, seed=17, kind=output, progress=False,
                          alignment="level")
         for key, q in (("position", cov.position_quantile), ("attitude", cov.attitude_quantile)):
             c = q(index=idx, term=term)

@@ -16,9 +16,9 @@ M = Motion(x="2*sin(0.7*t)", y="0.5*t**2", yaw="0.5*sin(0.9*t)", roll="0.2*sin(1
 
 def test_ideal_runs_are_the_round_trip_of_the_chosen_algorithm_and_gravity():
     g = 9.7
-    mc = monte_carlo(M, ImuModel.load("ideal"), 50.0, duration=1.5, runs=2, output="rates",
+    mc = monte_carlo(M, ImuModel.load("ideal"), 50.0, duration=1.5, runs=2, kind="rates",
                      g=g, algorithm="first_order", progress=False)
-    sig = simulate_imu(M, 50.0, 1.5, output="rates", g=g)
+    sig = simulate_imu(M, 50.0, 1.5, kind="rates", g=g)
     t0 = np.array([0.0])
     nav = navigate(sig, M.attitude(t0)[0], M.velocity(t0)[0], M.position(t0)[0],
                    algorithm="first_order", g=g)

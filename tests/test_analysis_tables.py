@@ -41,7 +41,7 @@ def _scipy_angle(q_a, q_b):
 def _errors_by_hand(motion, rate, kind, name, duration=None):
     """Navigate from the motion's state at t = 0 (both kinds start there: rates are sampled
     from 0, increments stamped at the interval ends) and compare with the laws."""
-    sig = simulate_imu(motion, rate, duration, output=kind)
+    sig = simulate_imu(motion, rate, duration, kind=kind)
     t0 = np.array([0.0])
     nav = navigate(sig, motion.attitude(t0)[0], motion.velocity(t0)[0], motion.position(t0)[0],
                    algorithm=name)

@@ -70,7 +70,7 @@ def test_csv_keeps_full_double_precision(tmp_path, motion_file):
     from imunav.io import load_motion_toml
 
     m, dur, _ = load_motion_toml(motion_file)
-    ref = simulate_imu(m, 30, dur, output="increments")
+    ref = simulate_imu(m, 30, dur, kind="increments")
     back = read_signals(out)
     assert back.kind == "increments" and back.rate == pytest.approx(30)
     assert np.array_equal(back.gyro, ref.gyro) and np.array_equal(back.accel, ref.accel)

@@ -39,8 +39,8 @@ def _diag(P):
 T_END = 20.0
 
 
-def _cov(model, motion=STILL, rate=100.0, output="rates"):
-    return covariance(motion, model, rate, output=output)
+def _cov(model, motion=STILL, rate=100.0, kind="rates"):
+    return covariance(motion, model, rate, kind=kind)
 
 
 def test_gyro_white_noise_attitude_and_position():
@@ -111,12 +111,12 @@ def test_scale_factor_on_a_constant_turn():
 
 def test_resolution_rates_white_increments_bounded():
     q, rate = 1e-3, 50.0
-    r = _cov(_model("gyro", resolution=q), rate=rate, output="rates")
+    r = _cov(_model("gyro", resolution=q), rate=rate, kind="rates")
     np.testing.assert_allclose(_diag(r.total[1:, 0:3, 0:3]),
                                np.stack([q * q / (12 * rate) * r.t[1:]] * 3, -1), rtol=1e-12)
     # increments carry the rounding residual: the angle error is the current residual, uniform
     # on ±q·h/2 per axis (variance (qh)²/12) at every time, however long the motion
-    r = _cov(_model("gyro", resolution=q), rate=rate, output="increments")
+    r = _cov(_model("gyro", resolution=q), rate=rate, kind="increments")
     np.testing.assert_allclose(_diag(r.total[1:, 0:3, 0:3]), (q / rate) ** 2 / 12, rtol=1e-12)
     # every term starts from the known initial state; the constant tilt then drives a
     # horizontal position error that grows at every step (g·φ·t²/2)
@@ -224,7 +224,7 @@ def test_resolution_as_dithered_white_noise():
     motion, rate, runs, q = figure_eight(), 50.0, 300, 1e-3
     noisy = _model("gyro", noise_density=2e-4)
     quant = _model("gyro", noise_density=2e-4, resolution=q)
-    sim = simulate_imu(motion, rate, motion.duration, output="increments")
+    sim = simulate_imu(motion, rate, motion.duration, kind="increments")
     t = sim.state_times()
     start = motion.attitude(t)[0], motion.velocity(t)[0], motion.position(t)[0]
 
@@ -286,17 +286,17 @@ def test_decimated_rate_samples_fold_the_noise():
     stationary IMU (no signal, so no filter lag)."""
     N, k = 1e-3, 50
     m = ImuModel(TriadModel(noise_density=N, internal_rate=20.0 * k))
-    r = covariance(STILL, m, 20.0, output="rates")
+    r = covariance(STILL, m, 20.0, kind="rates")
     np.testing.assert_allclose(_diag(r.total[1:, 0:3, 0:3]),
                                np.stack([k * N * N * r.t[1:]] * 3, -1), rtol=1e-12)
     m = ImuModel(TriadModel(noise_density=N, internal_rate=1000.0, bandwidth=100.0))
-    cov = covariance(STILL, m, 20.0, output="rates")
-    mc = monte_carlo(STILL, m, 20.0, runs=RUNS, seed=5, output="rates", progress=False)
+    cov = covariance(STILL, m, 20.0, kind="rates")
+    mc = monte_carlo(STILL, m, 20.0, runs=RUNS, seed=5, kind="rates", progress=False)
     idx = np.linspace(0, cov.t.size - 1, 11).round().astype(int)[1:]
     _agree(cov.attitude_quantile(index=idx), mc.attitude[:, idx], "aliased attitude")
     _agree(cov.position_quantile(index=idx), mc.position[:, idx], "aliased position")
     # increments sum the internal samples: no folding, the plain density
-    r = covariance(STILL, m, 20.0, output="increments")
+    r = covariance(STILL, m, 20.0, kind="increments")
     np.testing.assert_allclose(r.total[-1, 0, 0], N * N * T_END, rtol=1e-12)
 
 
@@ -379,7 +379,7 @@ def test_other_gravity_and_the_range_warnings():
     from imunav.sensors.models import ImuModel, TriadModel
 
     b, g = 1e-4, 1.62
-    r = covariance(STILL, _model("gyro", bias=b), 100.0, g=g, output="rates")
+    r = covariance(STILL, _model("gyro", bias=b), 100.0, g=g, kind="rates")
     t = r.t[1:]
     np.testing.assert_allclose(np.sqrt(_diag(r.total[1:, 6:8, 6:8])),
                                np.stack([g * b * t ** 3 / 6] * 2, -1), rtol=1e-12)
@@ -456,10 +456,10 @@ def test_streamed_summary_is_the_full_analysis_to_the_bit(motion):
 
     for preset, output in (("ADIS16470", "increments"), ("MPU-6050", "rates")):
         model = ImuModel.load(preset)
-        full = covariance(motion, model, 50.0, output=output)
+        full = covariance(motion, model, 50.0, kind=output)
         for tol in (0.05, 2.0, 1e4):
             for chunk in (1000, 77):
-                s = covariance_summary(motion, model, 50.0, output=output, tolerance=tol,
+                s = covariance_summary(motion, model, 50.0, kind=output, tolerance=tol,
                                        level=0.95, maxima=True, chunk=chunk)
                 idx = envelope_index(full.t.size)
                 np.testing.assert_array_equal(s.t, full.t[idx])

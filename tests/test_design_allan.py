@@ -222,10 +222,10 @@ def test_design_numbers_are_the_covariance_of_the_requested_run():
     base = ImuModel(TriadModel(noise_density=2e-4, resolution=1e-3),
                     TriadModel(bias=1e-3, resolution=2e-3), "base")
     tol, rate, dur = 0.05, 20.0, 5.0
-    r = design(motion, base, rate, tol, duration=dur, output="rates")
-    cov = covariance(motion, base, rate, dur, output="rates")
+    r = design(motion, base, rate, tol, duration=dur, kind="rates")
+    cov = covariance(motion, base, rate, dur, kind="rates")
     assert cov.t[-1] == pytest.approx(5.0)
-    inc = covariance(motion, base, rate, dur, output="increments")
+    inc = covariance(motion, base, rate, dur, kind="increments")
     assert set(r["terms"]) == set(cov.terms)
     for term, row in r["terms"].items():
         worst = cov.max_position_quantile(0.95, term=term)
@@ -245,7 +245,7 @@ def test_design_numbers_are_the_covariance_of_the_requested_run():
     assert (r["motion"], r["imu"], r["rate_hz"], r["tolerance_m"]) == ("wiggle", "base", 20.0, tol)
     assert r["warnings"] == cov.warnings
     for p in r["presets"][:3]:
-        pc = covariance(motion, ImuModel.load(p["name"]), rate, dur, output="rates")
+        pc = covariance(motion, ImuModel.load(p["name"]), rate, dur, kind="rates")
         assert p["final_p95_position_m"] == pytest.approx(
             float(pc.position_quantile(0.95, index=-1)), rel=1e-12)
         assert p["suitable"] == (pc.min_position_within(tol) >= 0.95)

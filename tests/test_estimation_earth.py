@@ -172,7 +172,7 @@ def test_the_linear_model_is_the_nonlinear_navigation_of_a_known_bias(vertical, 
     m = EarthMotion(Motion(x="100*sin(0.05*t)", y="15*t", yaw="0.3*sin(0.02*t)", duration=1500.0),
                     (45 * DEG, 0.1, 100.0))
     rate = 2.0
-    sig = simulate_imu(m, rate, output="increments")
+    sig = simulate_imu(m, rate, kind="increments")
     bad = ImuSignals(sig.t, sig.gyro, sig.accel + np.array(bias) / rate, "increments", rate)
 
     def hold(t):

@@ -114,10 +114,10 @@ def sympy_tables():
 
 @pytest.mark.parametrize("chunk", [1 << 15, 100, 7])
 def test_default_poly_navigation_matches_reference_loop(sympy_tables, monkeypatch, chunk):
-    from imunav.strapdown import highorder, registry
+    from imunav.strapdown import highorder, stream
 
     monkeypatch.setattr(highorder, "_POLY_CHUNK", chunk)
-    monkeypatch.setattr(registry, "CHUNK", max(chunk, 64))
+    monkeypatch.setattr(stream, "CHUNK", max(chunk, 64))
     h, g, dth, dv, q, v, p = _smooth_case(1500)
     reference.poly_navigation(dth, dv, h, g, *sympy_tables, q, v, p)
     _assert_matches(_navigate(dth, dv, h, g, q, v, p, "poly8_m6"), q, v, p)

@@ -172,7 +172,7 @@ def test_an_ideal_imu_navigates_the_walk_back():
     back by strapdown: the motion's ω_b and f_b are those of its attitude and position (a bug
     in either would show here as metres, not micrometres)."""
     m = foot_walk(20.0)
-    sig = simulate_imu(m, 400.0, 20.0, output="increments")
+    sig = simulate_imu(m, 400.0, 20.0, kind="increments")
     st = m.states(np.array([0.0]))
     out = navigate(sig, st.quaternion[0], st.velocity[0], st.position[0])
     err = np.abs(out.position - m.position(out.t)).max()
@@ -308,7 +308,7 @@ def test_a_shared_ideal_record_gives_the_same_walk(monkeypatch, chunk):
     if chunk is not None:
         monkeypatch.setattr(zupt, "CHUNK", chunk)
     walk = foot_walk(20.0)
-    ideal = simulate_imu(walk, 100.0, output="increments")
+    ideal = simulate_imu(walk, 100.0, kind="increments")
     for p, d in (("ADIS16470", "shoe"), ("BMI088", "truth")):
         a = zupt_walk(walk, p, 100.0, detector=d, seed=3)
         b = zupt_walk(walk, p, 100.0, detector=d, seed=3, ideal=ideal)

@@ -244,7 +244,7 @@ def test_the_checker_sees_a_planted_cycle_and_an_upward_import():
             MODULES.clear()
             MODULES.update(MODULES_saved)
     assert "imunav.core.rotations" in _imports("imunav.strapdown.scan")
-    assert "imunav.strapdown.classic" in _imports("imunav.strapdown.registry")
+    assert "imunav.strapdown.classic" in _imports("imunav.strapdown.algorithms")
 
 
 def test_old_module_names_still_import_with_a_deprecation_warning():

@@ -55,7 +55,7 @@ def test_specific_force_matches_scipy(motion, rng):
 
 def test_simulated_rates_match_analytic(motion, rng):
     rate = rng.uniform(57.0, 173.0)  # an odd rate puts the samples at "random" times
-    sig = simulate_imu(motion, rate, output="rates")
+    sig = simulate_imu(motion, rate, kind="rates")
     np.testing.assert_array_equal(sig.t, np.arange(sig.t.size) / rate)
     ref = np.array(_oracle_omega()(sig.t)).T
     rel = np.abs(sig.gyro - ref) / np.linalg.norm(ref, axis=1, keepdims=True)
@@ -84,7 +84,7 @@ def test_pitched_nose_up_at_rest():
 
 
 def test_increments_match_quad(motion, rng):
-    sig = simulate_imu(motion, 20.0, output="increments")
+    sig = simulate_imu(motion, 20.0, kind="increments")
     assert sig.t.size == 100 and sig.t[0] == pytest.approx(0.05)
     for k in rng.choice(sig.t.size, 8, replace=False):
         a, b = sig.t[k] - 0.05, sig.t[k]
@@ -100,7 +100,7 @@ def test_increments_match_quad(motion, rng):
 def test_increments_sum_to_total_rotation_about_fixed_axis():
     # yaw only: Δθ_z sums exactly to the yaw change (independent closed form)
     m = Motion(yaw="sin(3*t) + t**3/7")
-    sig = simulate_imu(m, 37.0, 2.0, output="increments")
+    sig = simulate_imu(m, 37.0, 2.0, kind="increments")
     total = np.sin(3 * sig.t[-1]) + sig.t[-1] ** 3 / 7
     assert abs(sig.gyro[:, 2].sum() - total) < 1e-12
     assert np.all(np.abs(sig.gyro[:, :2]) < 1e-15)
@@ -130,5 +130,5 @@ def test_bad_rate_duration(rate, dur, msg):
 
 
 def test_bad_output_kind(motion):
-    with pytest.raises(ImunavError, match="output must be one of"):
-        simulate_imu(motion, 100, output="deltas")
+    with pytest.raises(ImunavError, match="kind must be one of"):
+        simulate_imu(motion, 100, kind="deltas")

@@ -114,7 +114,7 @@ def test_usable_as_motion_everywhere():
     # measured at 100 Hz: rates/magnus4 2.0e-8 rad, 9.3e-6 m; increments/coning2 9.3e-7 rad
     err = nav_errors(navigate(simulate_imu(m, 100.0), m.attitude([0.0])[0]), m)
     assert err.attitude.max() < 6e-8 and err.position.max() < 3e-5
-    sig = simulate_imu(m, 100.0, output="increments")
+    sig = simulate_imu(m, 100.0, kind="increments")
     err = nav_errors(navigate(sig, m.attitude([0.0])[0]), m)
     assert err.attitude.max() < 3e-6
 

@@ -179,7 +179,8 @@ def thermal_drift():
 
 def test_a_term_defined_in_a_test_is_parsed_simulated_linearised_assessed_and_shown(
         thermal_drift):
-    from imunav import assess_covariance, covariance, design, format_design, monte_carlo
+    from imunav import covariance, design, format_design, monte_carlo
+    from imunav.analysis.assessment import assess_covariance
     from imunav.motion.catalog import stationary
     from imunav.sensors.simulate import simulate_imu
 
@@ -192,8 +193,8 @@ def test_a_term_defined_in_a_test_is_parsed_simulated_linearised_assessed_and_sh
         ImuModel.from_dict({"gyro": {"thermal_drift": "50 m/s"}})
     # simulated: std σ and lag-1 correlation e^{−h/T} (20 000 s = 1000 T: ±2.5 % on the std)
     motion, rate = stationary(duration=20_000.0), 2.0
-    ideal = simulate_imu(motion, rate, output="rates")
-    err = simulate_imu(motion, rate, output="rates", imu=model, seed=1).gyro - ideal.gyro
+    ideal = simulate_imu(motion, rate, kind="rates")
+    err = simulate_imu(motion, rate, kind="rates", imu=model, seed=1).gyro - ideal.gyro
     assert np.std(err) == pytest.approx(s, rel=0.08)
     r1 = np.mean([np.corrcoef(err[:-1, i], err[1:, i])[0, 1] for i in range(3)])
     assert r1 == pytest.approx(np.exp(-1 / (rate * thermal_drift.T)), abs=0.01)

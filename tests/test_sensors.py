@@ -86,7 +86,7 @@ def test_internal_rate_chain_decimates():
     motion = Motion(roll="0.3*sin(2*t)", duration=2.0)
     model = ImuModel.load("ideal")
     model = ImuModel(TriadModel(internal_rate=1000.0, bandwidth=200.0), TriadModel(), "x")
-    mc = monte_carlo(motion, model, 100.0, runs=2, seed=0, output="increments", progress=False)
+    mc = monte_carlo(motion, model, 100.0, runs=2, seed=0, kind="increments", progress=False)
     assert mc.t.size == 201
     # what remains is the filter's lag: a 2nd-order Butterworth delays by √2/(2π·200 Hz) at low
     # frequency, and the sensor was at steady state (ω(0) = 0.6 rad/s) before t0, so the angle

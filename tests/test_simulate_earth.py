@@ -64,7 +64,7 @@ def test_rates_against_the_inertial_frame_derivation(inertial):
 
 def test_exact_increments_against_scipy_quad():
     m = EarthMotion(MOTION, ORIGIN)
-    sig = simulate_imu(m, 50.0, 2.0, output="increments")
+    sig = simulate_imu(m, 50.0, 2.0, kind="increments")
     for k in (0, 17, 63, 99):
         a, b = sig.t[k] - sig.dt, sig.t[k]
         for j in range(3):
@@ -141,7 +141,7 @@ def test_increments_agree_with_pyins_generate_imu():
 
     m = EarthMotion(MOTION, ORIGIN)
     rate = 100.0
-    sig = simulate_imu(m, rate, output="increments")
+    sig = simulate_imu(m, rate, kind="increments")
     t = np.arange(len(sig) + 1) / rate
     st = m.states(t)
     lla = np.column_stack([np.degrees(st.position[:, :2]), st.position[:, 2]])

@@ -80,7 +80,7 @@ MOTIONS = {
 
 
 def _check(m, rate, duration, t0, n_intervals, rng, omega=0.0):
-    sig = simulate_imu(m, rate, duration, output="increments", t0=t0)
+    sig = simulate_imu(m, rate, duration, kind="increments", t0=t0)
     ref = _reference(m)
     h = 1.0 / rate
     for k in rng.choice(len(sig), n_intervals, replace=False):
@@ -140,7 +140,7 @@ def test_block_rule_equals_the_adaptive_quadrature_it_replaces():
     make, omega = MOTIONS["fast_and_slow"]
     m = make()
     h = 1 / 200.0
-    sig = simulate_imu(m, 200.0, 5.0, output="increments")
+    sig = simulate_imu(m, 200.0, 5.0, kind="increments")
     gl = Q.integrate_intervals(lambda s: np.concatenate([m.angular_rate(s),
                                                          m.specific_force(s)], -1),
                                sig.t - h, sig.t, width=6)
@@ -175,8 +175,8 @@ def test_chunking_does_not_change_increments():
     from imunav.sensors import simulate as S
 
     m = MOTIONS["fast_and_slow"][0]()
-    whole = simulate_imu(m, 100.0, 10.0, output="increments")
-    parts = list(S.ideal_chunks(m, 100.0, 10.0, output="increments", chunk=128))
+    whole = simulate_imu(m, 100.0, 10.0, kind="increments")
+    parts = list(S.ideal_chunks(m, 100.0, 10.0, kind="increments", chunk=128))
     for i, ref in ((1, whole.gyro), (2, whole.accel)):
         got = np.concatenate([p[i] for p in parts])
         assert np.abs(got - ref).max() <= 4 * EPS * np.abs(ref).max()

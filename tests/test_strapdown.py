@@ -14,7 +14,7 @@ MOTION = Motion(x="3*sin(0.4*t)", y="2*t + 0.1*t**2", z="-0.5*cos(0.6*t)",
 
 
 def _run(kind, name, rate, motion=MOTION):
-    sig = simulate_imu(motion, rate, output=kind)
+    sig = simulate_imu(motion, rate, kind=kind)
     t0 = np.array([sig.t[0] if kind == "rates" else sig.t[0] - sig.dt])
     nav = navigate(sig, motion.attitude(t0)[0], motion.velocity(t0)[0], motion.position(t0)[0],
                    algorithm=name)
@@ -99,7 +99,7 @@ def test_stationary_stays_put():
 
 
 def test_wrong_kind_and_unknown_algorithm():
-    sig = simulate_imu(MOTION, 50, output="rates")
+    sig = simulate_imu(MOTION, 50, kind="rates")
     with pytest.raises(ImunavError, match="unknown algorithm 'coning2' for rates"):
         navigate(sig, [1, 0, 0, 0], algorithm="coning2")
     with pytest.raises(ImunavError, match="q0 must have shape"):
@@ -109,7 +109,7 @@ def test_wrong_kind_and_unknown_algorithm():
 
 
 def test_inputs_not_mutated():
-    sig = simulate_imu(MOTION, 50, output="increments")
+    sig = simulate_imu(MOTION, 50, kind="increments")
     g0, a0 = sig.gyro.copy(), sig.accel.copy()
     q0 = np.array([1.0, 0, 0, 0])
     navigate(sig, q0)
@@ -124,7 +124,7 @@ def test_coning_case_default_beats_target():
     from imunav.motion.catalog import coning
 
     m = coning()
-    sig = simulate_imu(m, 100.0, output="increments")
+    sig = simulate_imu(m, 100.0, kind="increments")
     nav = navigate(sig, m.attitude([0.0])[0])
     assert nav.algorithm == "poly8_m6"
     err = np.degrees(quat_angle(nav.quaternion, m.attitude(nav.t)))
@@ -177,7 +177,7 @@ def test_batched_runs_equal_single_runs(kind, name, rng):
     from imunav import ImuSignals
     from imunav.strapdown import navigate_batch
 
-    sig = simulate_imu(MOTION, 50.0, 2.02, output=kind)   # 101 increments: partial groups too
+    sig = simulate_imu(MOTION, 50.0, 2.02, kind=kind)   # 101 increments: partial groups too
     R = 3
     G = sig.gyro[:, None] + 1e-3 * rng.normal(size=(1, R, 3))
     A = sig.accel[:, None] + 1e-2 * rng.normal(size=(1, R, 3))
@@ -199,7 +199,7 @@ def test_streaming_in_small_chunks_equals_one_chunk(kind, name, rng):
     groups) is carried across chunk boundaries. Differences are rounding in the carried state."""
     from imunav.strapdown import StreamNavigator
 
-    sig = simulate_imu(MOTION, 50.0, 6.02, output=kind)
+    sig = simulate_imu(MOTION, 50.0, 6.02, kind=kind)
     q0, v0, p0 = MOTION.states([sig.t0]).initial()
     whole = navigate(sig, q0, v0, p0, algorithm=name)
     nav = StreamNavigator(kind, sig.rate, q0, v0, p0, algorithm=name, chunk=37)

@@ -25,7 +25,7 @@ ON_EARTH = EarthMotion(MOTION, ORIGIN)
 
 
 def _run(motion, kind, name, rate, earth):
-    sig = simulate_imu(motion, rate, output=kind)
+    sig = simulate_imu(motion, rate, kind=kind)
     nav = navigate(sig, *motion.states([sig.t0]).initial(), algorithm=name, earth=earth)
     return nav, nav_errors(nav, motion)
 
@@ -64,14 +64,14 @@ def test_an_hour_at_rest_at_100_hz_does_not_depend_on_the_piece_length(monkeypat
     hour at rest at 100 Hz (the vertical channel free, amplifying the rounding) are the same
     with 64 s and 640 s pieces. Measured: 3.3e-5 m down with either (with g = 0 in the sums
     they were 5.9e-5 m with 64 s pieces and 3.3e-4 m with 512 s)."""
-    from imunav.strapdown import registry
+    from imunav.strapdown import stream
 
     m = EarthMotion(Motion(yaw=1.9, pitch=0.17, roll=-0.087, duration=3600.0), ORIGIN)
-    sig = simulate_imu(m, 100.0, output="increments")
+    sig = simulate_imu(m, 100.0, kind="increments")
     truth = m.states(sig.state_times())
     err = {}
     for seconds in (64.0, 640.0):
-        monkeypatch.setattr(registry, "EARTH_CHUNK_SECONDS", seconds)
+        monkeypatch.setattr(stream, "EARTH_CHUNK_SECONDS", seconds)
         nav = navigate(sig, *m.states([0.0]).initial(), earth="wgs84")
         err[seconds] = np.abs(E.ned_difference(nav.position, truth.position)).max(axis=0)
     assert err[64.0][2] < 5e-5 and err[640.0][2] < 5e-5, err
@@ -126,13 +126,14 @@ def test_the_closed_forms_of_a_block_equal_the_general_rules():
     corrections' closed form against the 2-node rule of ``_integrals`` and ``_displacement``,
     and the series of the Earth's turn against ``np.cos``/``np.sin`` over a whole block."""
     from imunav.strapdown import rotating as SE
+    from imunav.strapdown import rotating_blocks as RB
 
     rng = np.random.default_rng(3)
     integ = SE.EarthIntegrator(0.01, 0.0, [1.0, 0, 0, 0], np.zeros(3), ORIGIN)
     for shape in ((3200, 3), (500, 4, 3)):
         e = rng.normal(size=shape) * 1e-7
         V, D = integ._displacement(*integ._integrals(e, np.zeros((7,) + shape[1:]), 2))
-        V2, D2 = SE._trapezoid(e, 0.01)
+        V2, D2 = RB.trapezoid(e, 0.01)
         np.testing.assert_allclose(V2, V, rtol=1e-12, atol=1e-12 * np.abs(V).max())
         np.testing.assert_allclose(D2, D, rtol=1e-12, atol=1e-12 * np.abs(D).max())
     # the conversion to the local frame (half angles from sines and cosines) against the
@@ -147,7 +148,7 @@ def test_the_closed_forms_of_a_block_equal_the_general_rules():
     q = rng.normal(size=(lat.size, 4))
     q /= np.linalg.norm(q, axis=1, keepdims=True)
     ang = rng.uniform(0, 0.1, lat.size)
-    qn, vn, p = integ._local(q, v, r, r1, E.geodetic_kernel(r1), ang)
+    qn, vn, p = RB.to_local(q, v, r, r1, E.geodetic_kernel(r1), ang)
     la, lo, hh = E.ecef_to_geodetic(r)
     # the inertial longitude on the branch of r1's (as navigation continues it; across ±180°
     # the other branch gives −q, the same rotation)
@@ -163,11 +164,11 @@ def test_the_closed_forms_of_a_block_equal_the_general_rules():
     assert np.abs(E.ned_difference(p, np.column_stack([la, np.angle(np.exp(1j * (lo - ang))),
                                                        hh]))).max() < 1e-8   # representation
     ang = E.OMEGA_E * np.arange(1, 3201) * 0.01
-    c, s = SE._turn(ang)
+    c, s = RB.earth_turn(ang)
     assert (np.abs(c - np.cos(ang)) <= 2 * np.spacing(np.cos(ang))).all()       # 2 ulp
     assert (np.abs(s - np.sin(ang)) <= 2 * np.spacing(np.sin(ang))).all()
     big = np.array([0.0, 0.01, 1.0])
-    np.testing.assert_array_equal(SE._turn(big)[0], np.cos(big))
+    np.testing.assert_array_equal(RB.earth_turn(big)[0], np.cos(big))
 
 
 def _order_case(kind, name):
@@ -208,7 +209,7 @@ def test_every_algorithm_keeps_its_order_and_its_flat_frame_error(kind, name):
 
 
 def test_streaming_in_small_chunks_equals_one_chunk(rng):
-    sig = simulate_imu(ON_EARTH, 50.0, 6.02, output="increments")
+    sig = simulate_imu(ON_EARTH, 50.0, 6.02, kind="increments")
     q0, v0, p0 = ON_EARTH.states([sig.t0]).initial()
     whole = navigate(sig, q0, v0, p0, algorithm="poly8_m6", earth="wgs84")
     nav = StreamNavigator("increments", sig.rate, q0, v0, p0, algorithm="poly8_m6", chunk=37,
@@ -231,7 +232,7 @@ def test_streaming_in_small_chunks_equals_one_chunk(rng):
 def test_batched_runs_equal_single_runs(rng):
     from imunav import ImuSignals
 
-    sig = simulate_imu(ON_EARTH, 50.0, 4.0, output="increments")
+    sig = simulate_imu(ON_EARTH, 50.0, 4.0, kind="increments")
     R = 3
     G = sig.gyro[:, None] + 1e-4 * rng.normal(size=(1, R, 3))
     A = sig.accel[:, None] + 1e-2 * rng.normal(size=(1, R, 3))
@@ -285,7 +286,7 @@ def test_side_by_side_with_pyins_integrator_on_the_same_increments():
                            yaw="0.3*sin(0.2*t)", pitch="0.05*sin(0.3*t)", roll="0.1*sin(0.5*t)",
                            duration=60.0), ORIGIN)
     rate = 100.0
-    sig = simulate_imu(m, rate, output="increments")
+    sig = simulate_imu(m, rate, kind="increments")
     t = sig.state_times()
     truth = m.states(t)
     from imunav.core.rotations import quat_to_euler
@@ -314,7 +315,7 @@ def test_side_by_side_with_pyins_integrator_on_the_same_increments():
 
 
 def test_frame_arguments_are_checked():
-    sig = simulate_imu(ON_EARTH, 50.0, 1.0, output="increments")
+    sig = simulate_imu(ON_EARTH, 50.0, 1.0, kind="increments")
     x0 = ON_EARTH.states([0.0]).initial()
     with pytest.raises(ImunavError, match="g belongs to the flat frame"):
         navigate(sig, *x0, earth="wgs84", g=9.8)

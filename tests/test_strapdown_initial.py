@@ -35,7 +35,7 @@ def test_static_alignment_against_the_truth(kind):
     """At rest at yaw 1, pitch 0.1, roll −0.2: roll and pitch from 1 s of noisy samples within
     5× the averaging error σ_a/(g√N) = 2e-4 rad; yaw 0; the gyro bias within 5 σ_g/√N."""
     m = Motion(yaw=1.0, pitch=0.1, roll=-0.2, duration=3.0)
-    sig = _noisy(simulate_imu(m, RATE, output=kind), seed=1)
+    sig = _noisy(simulate_imu(m, RATE, kind=kind), seed=1)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         a = I.static_alignment(sig, 1.0)
@@ -95,7 +95,7 @@ def _drive(kind="rates"):
     s = "0.5*(t - 4)**3"
     c = Motion(x=f"{u[0]}*{s}", y=f"{u[1]}*{s}", z=f"{u[2]}*{s}", yaw=PSI_0, pitch=PITCH,
                roll=ROLL)
-    parts = [simulate_imu(m, RATE, 2.0 if i < 2 else 6.0, t0=t0, output=kind)
+    parts = [simulate_imu(m, RATE, 2.0 if i < 2 else 6.0, t0=t0, kind=kind)
              for i, (m, t0) in enumerate([(a, 0.0), (b, 2.0), (c, 4.0)])]
     skip = 1 if kind == "rates" else 0                    # rates repeat the joint sample
     t = np.concatenate([parts[0].t] + [p.t[skip:] for p in parts[1:]])

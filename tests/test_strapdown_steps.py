@@ -119,7 +119,7 @@ def test_acceleration_linear_in_time_is_integrated_exactly(kind, algorithm):
     """At constant attitude with a_n linear in t, the rate trapezoid (velocity) with the
     h²/6·(2a_{k−1} + a_k) position term, and every polynomial-fit algorithm, are exact."""
     m = Motion(**TRANSLATION, duration=10.0)
-    sig = simulate_imu(m, 20.0, output=kind)
+    sig = simulate_imu(m, 20.0, kind=kind)
     e = nav_errors(navigate(sig, *m.states([sig.t0]).initial(), algorithm=algorithm), m)
     assert e.attitude.max() < 1e-15
     assert e.velocity.max() < 1e-11 and e.position.max() < 1e-10     # |r| ≈ 100 m: rounding
@@ -132,7 +132,7 @@ def test_increment_trapezoid_position_error_is_the_closed_form(algorithm):
     ahead by T·h²·j/12 (and exact for constant acceleration)."""
     m = Motion(x="t**3/6", y="0.3*t**2", duration=10.0)          # j = 1 along x, none along y
     h = 0.01
-    sig = simulate_imu(m, 1 / h, output="increments")
+    sig = simulate_imu(m, 1 / h, kind="increments")
     nav = navigate(sig, *m.states([sig.t0]).initial(), algorithm=algorithm)
     err = nav.position[-1] - m.position(nav.t[-1:])[0]
     assert err[0] == pytest.approx(10 * h * h / 12, rel=1e-6)
@@ -143,7 +143,7 @@ def test_start_time_and_gravity_other_than_the_defaults():
     m = Motion(x="sin(t)", yaw="0.3*t", roll="0.1*sin(2*t)")
     g = 9.78
     for kind in ("rates", "increments"):
-        sig = simulate_imu(m, 50.0, 4.0, output=kind, g=g, t0=3.7)
+        sig = simulate_imu(m, 50.0, 4.0, kind=kind, g=g, t0=3.7)
         assert sig.t0 == pytest.approx(3.7, abs=1e-12) and sig.g == g
         nav = navigate(sig, *m.states([sig.t0]).initial())
         assert nav.t[0] == pytest.approx(3.7, abs=1e-12)
@@ -152,7 +152,7 @@ def test_start_time_and_gravity_other_than_the_defaults():
         assert e.position.max() < 5e-10 and e.attitude.max() < 1e-11
     # navigating with another g drifts by exactly ½·Δg·t² downwards
     still = Motion(yaw="0.2", pitch="0.1", duration=4.0)
-    sig = simulate_imu(still, 50.0, output="increments", g=g)
+    sig = simulate_imu(still, 50.0, kind="increments", g=g)
     nav = navigate(sig, *still.states([sig.t0]).initial(), g=G)
     assert nav.position[-1, 2] == pytest.approx(0.5 * (G - g) * 16.0, rel=1e-9)
     np.testing.assert_allclose(nav.position[-1, :2], 0, atol=1e-12)

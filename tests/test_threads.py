@@ -56,7 +56,7 @@ def two_threads():
 
 def test_plain_simulate_runs_its_kernel_on_one_blas_thread_and_restores(two_threads):
     m = spy()
-    sig = simulate_imu(m, 50.0, output="increments")
+    sig = simulate_imu(m, 50.0, kind="increments")
     assert len(sig) == 150 and m.seen
     assert all(c == [1] * len(c) for c in m.seen)                 # inside: one thread each
     assert blas_counts() == two_threads                            # after: as it was
@@ -65,18 +65,18 @@ def test_plain_simulate_runs_its_kernel_on_one_blas_thread_and_restores(two_thre
 def test_the_caller_chooses(two_threads):
     m = spy()
     with imunav.blas_threads(None):                                # leave BLAS as configured
-        simulate_imu(m, 50.0, output="increments")
+        simulate_imu(m, 50.0, kind="increments")
     assert m.seen and all(c == two_threads for c in m.seen)
     m.seen = []
     with imunav.blas_threads(2):
-        simulate_imu(m, 50.0, output="increments")
+        simulate_imu(m, 50.0, kind="increments")
     assert m.seen and all(c == two_threads for c in m.seen)        # 2 (or the cap)
     assert kernel_threads() == 1                                   # the block's choice ended
     previous = imunav.set_blas_threads(None)
     try:
         assert previous == 1 and kernel_threads() is None
         m.seen = []
-        simulate_imu(m, 50.0, output="increments")
+        simulate_imu(m, 50.0, kind="increments")
         assert all(c == two_threads for c in m.seen)
         with imunav.blas_threads(1):                               # a block beats the process
             assert kernel_threads() == 1
@@ -99,7 +99,7 @@ def test_environment_variable(monkeypatch):
         kernel_threads()
     monkeypatch.setenv(ENV, "0")
     with pytest.raises(ImunavError, match=ENV):
-        simulate_imu(spy(), 50.0, output="increments")
+        simulate_imu(spy(), 50.0, kind="increments")
 
 
 def test_cli_names_a_bad_environment_variable(monkeypatch, tmp_path, capsys):
@@ -188,9 +188,9 @@ def test_blas_env_for_child_processes():
 def test_limit_changes_no_result():
     """The kernels give the same bits with one BLAS thread as with numpy's default."""
     m = Motion(x="sin(t)", y="t**2/10", yaw="0.3*sin(t)", roll="0.3*sin(2*t)", duration=30.0)
-    one = simulate_imu(m, 200.0, output="increments")
+    one = simulate_imu(m, 200.0, kind="increments")
     with imunav.blas_threads(None):
-        default = simulate_imu(m, 200.0, output="increments")
+        default = simulate_imu(m, 200.0, kind="increments")
     assert np.array_equal(one.gyro, default.gyro) and np.array_equal(one.accel, default.accel)
 
 
@@ -211,7 +211,7 @@ def test_earth_navigation_runs_its_gravity_products_on_one_blas_thread(two_threa
 
     monkeypatch.setattr(EarthIntegrator, "_integrals", recording)
     m = EarthMotion(Motion(x="2*t", yaw="0.1*t", duration=20.0), (0.8, 0.2, 100.0))
-    sig = simulate_imu(m, 50.0, output="increments")
+    sig = simulate_imu(m, 50.0, kind="increments")
     navigate(sig, *m.states([0.0]).initial(), earth="wgs84")
     assert seen and all(c == [1] * len(c) for c in seen)
     assert blas_counts() == two_threads

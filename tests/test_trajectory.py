@@ -53,7 +53,7 @@ def test_increments_are_exact_for_the_spline():
     """The increments integrate the spline's own ω_b and f_b: against scipy's adaptive quad
     (given the knots inside each interval), to rounding."""
     pm = PoseMotion(*_poses(50.0))
-    sig = simulate_imu(pm, 200.0, output="increments")
+    sig = simulate_imu(pm, 200.0, kind="increments")
     rng = np.random.default_rng(3)
     for k in rng.choice(len(sig), 6, replace=False):
         a, b = k / 200, (k + 1) / 200
@@ -149,7 +149,7 @@ def test_route_simulates_and_navigates_back():
     from imunav import nav_errors, navigate
 
     wp = WaypointMotion(ROUTE_T, ROUTE_P, orientation="follow")
-    sig = simulate_imu(wp, 100.0, output="increments")
+    sig = simulate_imu(wp, 100.0, kind="increments")
     t0 = np.array([0.0])
     nav = navigate(sig, wp.attitude(t0)[0], wp.velocity(t0)[0], wp.position(t0)[0])
     e = nav_errors(nav, wp)

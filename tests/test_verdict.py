@@ -221,7 +221,7 @@ def test_assess_passes_every_setting_through(monkeypatch):
     monkeypatch.setattr(A, "min_sample_rate", lambda *a: rates.append(a) or 40.0)
     m = Motion(x="t", yaw="0.1*sin(t)", duration=5.0, name="m")
     model = ImuModel(TriadModel(noise_density=1e-3), TriadModel(bias=1e-2), "two")
-    got = A.assess(m, model, 20.0, 201, 0.5, duration=0.5, output="rates", scheduler="tcp://x:1")
+    got = A.assess(m, model, 20.0, 201, 0.5, duration=0.5, kind="rates", scheduler="tcp://x:1")
     assert calls[0] == ("two", 0.5, 201, 0, "rates", "tcp://x:1", True)
     assert len(calls) == 1 + len(model.terms())
     assert all(c[1:] == (0.5, 200, 0, "rates", "tcp://x:1", False) for c in calls[1:])
@@ -317,7 +317,7 @@ def test_deterministic_error_runs_only_filter_and_range(monkeypatch):
     assert det.accel == TriadModel(range=30.0, bandwidth=8.0, internal_rate=400.0)
     assert out[0] > 0 and out[1] > 0
     # the streamed run is the one-run Monte Carlo of the same model (an independent path)
-    mc = monte_carlo(m, det, 50.0, 2.0, runs=1, output="rates", progress=False)
+    mc = monte_carlo(m, det, 50.0, 2.0, runs=1, kind="rates", progress=False)
     assert out == pytest.approx((mc.position.max(), mc.attitude.max()), rel=1e-9)
     seen.clear()
     A.deterministic_error(m, model, 50.0)
@@ -348,10 +348,10 @@ def test_assess_covariance_passes_every_setting_through(monkeypatch):
 
     seen = {}
 
-    def rec_cov(motion, model, rate, duration, *, output, tolerance, level, progress, vertical):
+    def rec_cov(motion, imu, rate, duration, *, kind, tolerance, level, progress, vertical):
         assert vertical == "free"                         # the flat frame's
-        seen["cov"] = (duration, output, tolerance, level)
-        return covariance_summary(motion, model, rate, duration, output=output,
+        seen["cov"] = (duration, kind, tolerance, level)
+        return covariance_summary(motion, imu, rate, duration, kind=kind,
                                   tolerance=tolerance, level=level, progress=progress)
 
     monkeypatch.setattr(A, "covariance_summary", rec_cov)
@@ -360,7 +360,7 @@ def test_assess_covariance_passes_every_setting_through(monkeypatch):
                         lambda *a, peaks: seen.setdefault("det", a) and (0.05, 0.01))
     m = Motion(x="t", yaw="0.1*sin(t)", duration=5.0, name="m")
     model = ImuModel(TriadModel(noise_density=1e-3), TriadModel(bias=1e-2), "two")
-    r = A.assess_covariance(m, model, 20.0, 0.4, duration=2.0, output="rates")
+    r = A.assess_covariance(m, model, 20.0, 0.4, duration=2.0, kind="rates")
     assert seen["cov"] == (2.0, "rates", 0.4, 0.95)
     assert seen["rate"] == (m, 0.4, 2.0, "rates")
     assert seen["det"] == (m, model, 20.0, 2.0, "rates")
@@ -371,7 +371,7 @@ def test_assess_covariance_passes_every_setting_through(monkeypatch):
                                         "0.05 m position error")
     assert r["warnings"][-1].endswith("Check with --method montecarlo")
     # exactly a tenth of 0.5 m (0.1 × 0.5 = 0.05 in binary too) is not over it
-    r = A.assess_covariance(m, model, 20.0, 0.5, duration=2.0, output="rates")
+    r = A.assess_covariance(m, model, 20.0, 0.5, duration=2.0, kind="rates")
     assert not any("filter and range" in w for w in r["warnings"])
     with pytest.raises(ImunavError, match="^tolerance must be"):
         A.assess_covariance(m, model, 20.0, -0.5)
@@ -382,7 +382,7 @@ def test_sampling_error_and_minimum_rate_for_the_duration_and_signals_asked():
 
     m = Motion(x="3*sin(2*t)", yaw="0.8*sin(1.5*t)", duration=8.0, name="m")
     for kind, algo in (("rates", "magnus6"), ("increments", "poly8_m6")):
-        sig = simulate_imu(m, 10.0, 3.0, output=kind)
+        sig = simulate_imu(m, 10.0, 3.0, kind=kind)
         nav = navigate(sig, m.attitude([0.0])[0], m.velocity([0.0])[0], m.position([0.0])[0])
         assert nav.algorithm == algo and nav.t[-1] == pytest.approx(3.0)
         want = np.linalg.norm(nav.position - m.position(nav.t), axis=-1).max()

@@ -341,7 +341,7 @@ def aided_monte_carlo(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig | 
         times = np.arange(0.0, duration + 1e-9, 0.1)
     nodes = np.clip(np.rint(np.asarray(times, float) * rate).astype(int), 0, N)
     k = imu.decimation(rate)
-    ideal = simulate_imu(motion, rate * k, duration, output="increments", g=g)
+    ideal = simulate_imu(motion, rate * k, duration, kind="increments", g=g)
     task = _Task(motion, imu, aiding, rate, duration, seed, algorithm, covariance_step,
                  ideal.gyro, ideal.accel, ideal.t, g, nodes, list(measurements or []), smooth,
                  nees, skip, innovations, keep)

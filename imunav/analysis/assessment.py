@@ -2,6 +2,9 @@
 position error against a tolerance, the error budget per term, the minimum useful rate, and the
 text a non-specialist can act on.
 
+With ``aiding``, :func:`assess` answers through the aided verdict
+(:mod:`imunav.analysis.aided_assessment`): one entry for every verdict.
+
 May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``, ``imunav.strapdown``,
 ``imunav.estimation``, ``imunav.analysis``.
 """
@@ -11,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.stats import beta
 
+from imunav.analysis.aided_assessment import assess_aided
 from imunav.analysis.covariance import (
     ENVELOPE_POINTS,
     CovarianceResult,
@@ -21,9 +25,11 @@ from imunav.analysis.covariance import (
 from imunav.analysis.gaussnorm import norm_quantile
 from imunav.analysis.metrics import nav_errors
 from imunav.analysis.montecarlo import MonteCarloResult, monte_carlo
+from imunav.core.deprecation import renamed
 from imunav.core.validation import ImunavError, check_positive
 from imunav.estimation.alignment import WINDOW, check_alignment
 from imunav.motion.base import BaseMotion, span
+from imunav.sensors.aids import AidingConfig
 from imunav.sensors.models import ImuModel, TriadModel
 from imunav.sensors.simulate import signal_chunks
 from imunav.strapdown.registry import navigate_chunks
@@ -39,8 +45,9 @@ PERCENTILE = 95
 SAMPLING_SHARE = 0.1
 
 
+@renamed(output="kind")
 def run_errors(motion: BaseMotion, rate: float, duration: float | None = None,
-               output: str = "increments", imu: ImuModel | None = None
+               kind: str = "increments", imu: ImuModel | None = None
                ) -> tuple[float, float]:
     """Maximum position (m) and attitude (rad) error of one run navigated with the default
     algorithm: the ideal signals, or ``imu``'s (seed 0) — streamed in chunks, so the memory
@@ -53,7 +60,7 @@ def run_errors(motion: BaseMotion, rate: float, duration: float | None = None,
         Output rate (Hz).
     duration : float, optional
         Seconds; default the motion's own.
-    output : {"increments", "rates"}
+    kind : {"increments", "rates"}
     imu : ImuModel, optional
 
     Returns
@@ -62,23 +69,25 @@ def run_errors(motion: BaseMotion, rate: float, duration: float | None = None,
     """
     duration = span(motion, rate, duration)
     q0, v0, p0 = motion.states(np.array([0.0])).initial()
-    chunks = signal_chunks(motion, rate, duration, output=output, imu=imu)
+    chunks = signal_chunks(motion, rate, duration, kind=kind, imu=imu)
     pos = att = 0.0
-    for st in navigate_chunks(output, rate, chunks, q0, v0, p0, earth=motion.frame):
+    for st in navigate_chunks(kind, rate, chunks, q0, v0, p0, earth=motion.frame):
         err = nav_errors(st, motion)
         pos, att = max(pos, float(err.position.max())), max(att, float(err.attitude.max()))
     return pos, att
 
 
+@renamed(output="kind")
 def sampling_error(motion: BaseMotion, rate: float, duration: float,
-                   output: str = "increments") -> float:
+                   kind: str = "increments") -> float:
     """Maximum position error (m) of an ideal sensor at ``rate`` with the default algorithm:
     what sampling alone costs on this motion (streamed: :func:`run_errors`)."""
-    return run_errors(motion, rate, duration, output)[0]
+    return run_errors(motion, rate, duration, kind)[0]
 
 
+@renamed(output="kind")
 def min_sample_rate(motion: BaseMotion, tolerance: float, duration: float | None = None,
-                    output: str = "increments", candidates=RATE_CANDIDATES) -> float | None:
+                    kind: str = "increments", candidates=RATE_CANDIDATES) -> float | None:
     """Smallest candidate rate at which the sampling error alone (ideal sensor, default
     algorithm) stays within :data:`SAMPLING_SHARE` of ``tolerance`` over the whole motion.
 
@@ -90,7 +99,7 @@ def min_sample_rate(motion: BaseMotion, tolerance: float, duration: float | None
         The position tolerance (m).
     duration : float, optional
         Seconds; default the motion's own.
-    output : {"increments", "rates"}, default "increments"
+    kind : {"increments", "rates"}, default "increments"
         The signal kind.
     candidates : sequence of float, default RATE_CANDIDATES
         Rates (Hz) tried in increasing order; a rate giving fewer than 10 samples over the
@@ -104,7 +113,7 @@ def min_sample_rate(motion: BaseMotion, tolerance: float, duration: float | None
     Raises
     ------
     ImunavError
-        For the reasons of the simulation and the navigation (an unknown ``output``, a
+        For the reasons of the simulation and the navigation (an unknown ``kind``, a
         duration that is not a finite number > 0, …).
 
     Examples
@@ -117,7 +126,7 @@ def min_sample_rate(motion: BaseMotion, tolerance: float, duration: float | None
         d = span(motion, r, duration) if r * (duration or motion.duration or 0) >= 10 else None
         if d is None:
             continue
-        if sampling_error(motion, r, d, output) <= SAMPLING_SHARE * tolerance:
+        if sampling_error(motion, r, d, kind) <= SAMPLING_SHARE * tolerance:
             return float(r)
     return None
 
@@ -235,8 +244,9 @@ def verdict_covariance(cov: CovarianceResult | CovarianceSummary, tolerance: flo
     }
 
 
-def deterministic_error(motion: BaseMotion, model: ImuModel, rate: float,
-                        duration: float | None = None, output: str = "increments",
+@renamed(model="imu", output="kind")
+def deterministic_error(motion: BaseMotion, imu: ImuModel, rate: float,
+                        duration: float | None = None, kind: str = "increments",
                         peaks: tuple[float, float] | None = None
                         ) -> tuple[float, float] | None:
     """Maximum position (m) and attitude (rad) error of one noise-free run keeping only the
@@ -248,19 +258,20 @@ def deterministic_error(motion: BaseMotion, model: ImuModel, rate: float,
     def keep(m):
         return TriadModel(range=m.range, bandwidth=m.bandwidth, internal_rate=m.internal_rate)
 
-    gyro, accel = model.gyro, model.accel
+    gyro, accel = imu.gyro, imu.accel
     if not any(t.bandwidth or t.range for t in (gyro, accel)):
         return None
     if peaks is not None and not (gyro.bandwidth or accel.bandwidth) and all(
             not m.range or peak <= m.range / 2 for m, peak in ((gyro, peaks[0]),
                                                                 (accel, peaks[1]))):
         return None
-    det = ImuModel(keep(gyro), keep(accel), f"{model.name}:deterministic")
-    return run_errors(motion, rate, duration, output, imu=det)
+    det = ImuModel(keep(gyro), keep(accel), f"{imu.name}:deterministic")
+    return run_errors(motion, rate, duration, kind, imu=det)
 
 
-def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, tolerance: float,
-                      duration: float | None = None, output: str = "increments",
+@renamed(model="imu", output="kind")
+def assess_covariance(motion: BaseMotion, imu: ImuModel, rate: float, tolerance: float,
+                      duration: float | None = None, kind: str = "increments",
                       progress: bool = True, vertical: str = "free", *,
                       alignment: str = "truth", align_window: float = WINDOW) -> dict:
     """The applicability verdict by linear covariance analysis (:mod:`~imunav.analysis.covariance`).
@@ -273,7 +284,7 @@ def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, toleranc
     ----------
     motion : BaseMotion
         The motion to track.
-    model : ImuModel
+    imu : ImuModel
         The sensor's errors.
     rate : float
         Output sample rate (Hz).
@@ -281,7 +292,7 @@ def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, toleranc
         The position tolerance (m), > 0.
     duration : float, optional
         Seconds; default the motion's own.
-    output : {"increments", "rates"}, default "increments"
+    kind : {"increments", "rates"}, default "increments"
         The signal kind.
     progress : bool, default True
         Show a progress bar on long analyses.
@@ -309,7 +320,7 @@ def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, toleranc
     ImunavError
         If ``tolerance`` is not a finite number > 0, or for the reasons of the covariance
         analysis (a ``rate`` or duration that is not a finite number > 0, an unknown
-        ``output`` or ``vertical``, ``"hold"`` on the flat frame, …).
+        ``kind`` or ``vertical``, ``"hold"`` on the flat frame, …).
         Also if ``alignment`` is not ``"truth"`` or ``"level"``, ``align_window`` is not
         a finite number > 0, or ``"level"`` is asked on the WGS-84 Earth.
 
@@ -327,13 +338,13 @@ def assess_covariance(motion: BaseMotion, model: ImuModel, rate: float, toleranc
     tolerance = check_positive(tolerance, "tolerance")
     alignment, align_window = check_alignment(alignment, align_window, motion.frame)
     al = {} if alignment == "truth" else {"alignment": alignment, "align_window": align_window}
-    cov = covariance_summary(motion, model, rate, duration, output=output, tolerance=tolerance,
+    cov = covariance_summary(motion, imu, rate, duration, kind=kind, tolerance=tolerance,
                              level=SUITABLE_FRACTION, progress=progress, vertical=vertical,
                              **al)
-    r = verdict_covariance(cov, tolerance, min_sample_rate(motion, tolerance, duration, output),
-                           motion=motion.name, imu=model.name)
-    r["warnings"] += model.missing_term_warnings()      # issue 38: no bias instability, say so
-    det = deterministic_error(motion, model, rate, duration, output,
+    r = verdict_covariance(cov, tolerance, min_sample_rate(motion, tolerance, duration, kind),
+                           motion=motion.name, imu=imu.name)
+    r["warnings"] += imu.missing_term_warnings()      # issue 38: no bias instability, say so
+    det = deterministic_error(motion, imu, rate, duration, kind,
                               peaks=(cov.max_rate, cov.max_force))
     r["deterministic_position_m"] = None if det is None else det[0]
     if det is not None and det[0] > tolerance:
@@ -370,21 +381,29 @@ def _say_alignment(r: dict, alignment: str, window: float) -> None:
 METHODS = ("covariance", "montecarlo")
 
 
-def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int | None = None,
+@renamed(model="imu", output="kind")
+def assess(motion: BaseMotion, imu: ImuModel, rate: float, runs: int | None = None,
            tolerance: float | None = None, seed: int = 0, duration: float | None = None,
-           output: str = "increments", budget_runs: int | None = None,
+           kind: str = "increments", budget_runs: int | None = None,
            scheduler: str | None = None, progress: bool = True,
            method: str | None = None, vertical: str = "free", *, alignment: str = "truth",
-           align_window: float = WINDOW) -> dict:
+           align_window: float = WINDOW, aiding: AidingConfig | None = None,
+           covariance_step: float = 0.1) -> dict:
     """The applicability verdict: the numbers of ``imunav assess`` (see :func:`verdict`,
-    :func:`verdict_covariance` and :func:`format_verdict`), by either method, as the command
-    line chooses it.
+    :func:`verdict_covariance` and :func:`format_verdict`), by either method, aided or not,
+    as the command line chooses it — the one entry for the verdict.
+
+    Unaided, by linear covariance analysis (:func:`assess_covariance`) or Monte Carlo
+    (:func:`~imunav.analysis.montecarlo.monte_carlo` and :func:`verdict`); with ``aiding``,
+    the aided verdict through every GNSS outage
+    (:func:`~imunav.analysis.aided_assessment.assess_aided`: the filter's covariance along the
+    truth, and with ``runs`` a Monte Carlo of the filter too).
 
     Parameters
     ----------
     motion : BaseMotion
         The motion to track.
-    model : ImuModel
+    imu : ImuModel
         The sensor's errors.
     rate : float
         Output sample rate (Hz).
@@ -397,7 +416,7 @@ def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int | None = 
         Random seed, ≥ 0.
     duration : float, optional
         Seconds; default the motion's own.
-    output : {"increments", "rates"}, default "increments"
+    kind : {"increments", "rates"}, default "increments"
         The signal kind.
     budget_runs : int, optional
         Runs per error term alone (same seed) for the error budget; default min(runs, 200).
@@ -417,6 +436,13 @@ def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int | None = 
         :func:`assess_covariance`); with ``"level"`` the verdict says so (``r["alignment"]``).
     align_window : float, default WINDOW
         The levelling window (s), > 0.
+    aiding : AidingConfig, optional
+        The aids (an ``AIDING.toml``, :class:`~imunav.sensors.aids.AidingConfig`): the aided
+        verdict. Not with ``budget_runs``, ``vertical="hold"`` or ``alignment="level"`` (the
+        aided analysis starts from the true attitude; its budget is per source at the worst
+        outage's end).
+    covariance_step : float, default 0.1
+        With ``aiding``: the longest covariance step of the filter (s).
 
     Returns
     -------
@@ -425,7 +451,9 @@ def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int | None = 
         ``time_p95_exceeds_s`` (s or None), ``final_p95_position_m`` (m), ``error_budget``
         (term → final 95th-percentile position error alone, m, largest first),
         ``min_rate_hz``, ``saturated_runs``, ``envelope``, ``warnings`` …; on the WGS-84 Earth
-        also ``vertical`` and ``final_p95_horizontal_m`` (m).
+        also ``vertical`` and ``final_p95_horizontal_m`` (m). With ``aiding``, those of
+        :func:`~imunav.analysis.aided_assessment.assess_aided` (``suitable``,
+        ``max_p95_position_m``, ``outages``, ``error_budget`` …).
 
     Raises
     ------
@@ -436,7 +464,10 @@ def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int | None = 
         Also if ``alignment`` is not ``"truth"`` or ``"level"``, ``align_window`` is not
         a finite number > 0, or ``"level"`` is asked on the WGS-84 Earth.
         Also for a bad ``method``, ``runs`` or ``scheduler`` with the covariance method, or
-        the Monte Carlo method without ``runs``.
+        the Monte Carlo method without ``runs``; with ``aiding``, for an option of the
+        unaided verdict only (``budget_runs``, ``vertical``, ``alignment``,
+        ``align_window``) and for the reasons of the aided one; without it, for a
+        ``covariance_step`` other than its default.
 
     Examples
     --------
@@ -452,6 +483,13 @@ def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int | None = 
         raise ImunavError(f"method must be one of {', '.join(METHODS)}, got {method!r}",
                           argument="method")
     tolerance = check_positive(tolerance, "tolerance")
+    if aiding is not None:
+        return _assess_aided(motion, imu, rate, runs, tolerance, seed, duration, kind,
+                             budget_runs, scheduler, progress, method, vertical, alignment,
+                             align_window, aiding, covariance_step)
+    if covariance_step != 0.1:
+        raise ImunavError("covariance_step applies with aiding only (the aided filter's "
+                          "covariance steps)", argument="covariance_step")
     alignment, align_window = check_alignment(alignment, align_window, motion.frame)
     al = {} if alignment == "truth" else {"alignment": alignment, "align_window": align_window}
     if method == "covariance":
@@ -460,22 +498,22 @@ def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int | None = 
             if value is not None:
                 raise ImunavError(f"{name} applies to the Monte Carlo method only "
                                   "(method 'montecarlo')", argument=name)
-        return assess_covariance(motion, model, rate, tolerance, duration, output,
+        return assess_covariance(motion, imu, rate, tolerance, duration, kind,
                                  progress=progress, vertical=vertical, alignment=alignment,
                                  align_window=align_window)
     if runs is None:
         raise ImunavError("runs is required for the Monte Carlo method (method 'montecarlo')",
                           argument="runs")
-    mc = monte_carlo(motion, model, rate, duration, runs, seed, output, scheduler=scheduler,
+    mc = monte_carlo(motion, imu, rate, duration, runs, seed, kind, scheduler=scheduler,
                      progress=progress, vertical=vertical, **al)
     br = budget_runs or min(runs, 200)
-    budget = {term: monte_carlo(motion, model.only(term), rate, duration, br, seed, output,
+    budget = {term: monte_carlo(motion, imu.only(term), rate, duration, br, seed, kind,
                                 scheduler=scheduler, progress=False, vertical=vertical,
                                 **al)
-              for term in model.terms()}
-    r = verdict(mc, tolerance, budget, min_sample_rate(motion, tolerance, duration, output),
-                motion=motion.name, imu=model.name, seed=seed)
-    r["warnings"] += model.missing_term_warnings()      # issue 38: no bias instability, say so
+              for term in imu.terms()}
+    r = verdict(mc, tolerance, budget, min_sample_rate(motion, tolerance, duration, kind),
+                motion=motion.name, imu=imu.name, seed=seed)
+    r["warnings"] += imu.missing_term_warnings()      # issue 38: no bias instability, say so
     if mc.horizontal is not None:
         r["vertical"] = vertical
         hor = float(np.percentile(mc.horizontal[:, -1], PERCENTILE))
@@ -485,6 +523,32 @@ def assess(motion: BaseMotion, model: ImuModel, rate: float, runs: int | None = 
             r["warnings"].append(note)
     _say_alignment(r, alignment, align_window)
     return r
+
+
+def _assess_aided(motion, imu, rate, runs, tolerance, seed, duration, kind, budget_runs,
+                  scheduler, progress, method, vertical, alignment, align_window, aiding,
+                  covariance_step) -> dict:
+    """:func:`assess` with ``aiding``: the options of the unaided verdict refused by name, the
+    method's rules checked as unaided, then :func:`assess_aided`."""
+    if alignment != "truth" or align_window != WINDOW:
+        raise ImunavError("alignment and align_window apply without aiding only (the aided "
+                          "analysis starts from the true attitude)",
+                          argument=("alignment", "align_window"))
+    for name, value, default in (("budget_runs", budget_runs, None),
+                                 ("vertical", vertical, "free")):
+        if value != default:
+            raise ImunavError(f"{name} applies without aiding only", argument=name)
+    if method == "covariance" and runs is not None:
+        raise ImunavError("runs applies to the Monte Carlo method only (method 'montecarlo')",
+                          argument="runs")
+    if method == "montecarlo" and runs is None:
+        raise ImunavError("runs is required for the Monte Carlo method (method 'montecarlo')",
+                          argument="runs")
+    if runs is None and scheduler is not None:
+        raise ImunavError("scheduler applies to a Monte Carlo (runs) only", argument="scheduler")
+    return assess_aided(motion, imu, aiding, rate, tolerance, duration, runs=runs, seed=seed,
+                        scheduler=scheduler, kind=kind, covariance_step=covariance_step,
+                        progress=progress)
 
 
 #: Above this ratio of the whole error to its horizontal part the vertical channel dominates.

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from imunav.analysis.assessment import PERCENTILE, SUITABLE_FRACTION, min_sample_rate
 from imunav.analysis.covariance import check_steps, covariance_summary
+from imunav.core.deprecation import renamed
 from imunav.core.validation import check_positive
 from imunav.estimation.alignment import WINDOW
 from imunav.estimation.error_model import LazyTrajectory
@@ -47,13 +48,14 @@ def in_datasheet_units(term: str, si: float, *, typographic: bool = False) -> st
     return TERMS[name].show(si, triad, typographic=typographic)
 
 
-def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
-           duration: float | None = None, output: str = "increments",
+@renamed(base="imu", output="kind")
+def design(motion: BaseMotion, imu: ImuModel, rate: float, tolerance: float,
+           duration: float | None = None, kind: str = "increments",
            progress: bool = True, vertical: str = "free", *, alignment: str = "truth",
            align_window: float = WINDOW) -> dict:
     """The worst IMU that still tracks ``motion`` within ``tolerance``.
 
-    Limits of each error term of ``base``, the common scale, the minimum rate and every
+    Limits of each error term of ``imu``, the common scale, the minimum rate and every
     preset ranked: the numbers of ``imunav design`` (the JSON it writes). Exact in the linear
     covariance model, where the position error's percentiles scale with each parameter (see
     the module's description).
@@ -62,7 +64,7 @@ def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
     ----------
     motion : BaseMotion
         The motion to track.
-    base : ImuModel
+    imu : ImuModel
         The IMU whose terms are scaled (its values set the mix of terms).
     rate : float
         Output sample rate (Hz).
@@ -70,7 +72,7 @@ def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
         The largest acceptable 95th-percentile position error (m) over the whole motion.
     duration : float, optional
         Seconds; default the motion's own.
-    output : {"increments", "rates"}, default "increments"
+    kind : {"increments", "rates"}, default "increments"
         The signal kind.
     progress : bool, default True
         Show progress bars on long analyses.
@@ -88,9 +90,9 @@ def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
     -------
     dict
         ``motion``, ``imu``, ``rate_hz``, ``tolerance_m``; ``terms``: for each term of
-        ``base`` with an effect, ``limit_si`` (SI), ``limit`` and ``base`` (in datasheet
+        ``imu`` with an effect, ``limit_si`` (SI), ``limit`` and ``base`` (its value in ``imu``; in datasheet
         units, spelt as in files: ``"0.12 deg/sqrt(h)"``; the printed report writes them
-        ``"0.12 °/√h"``) and ``max_p95_position_m``; ``common_scale`` (the factor on all of ``base``'s
+        ``"0.12 °/√h"``) and ``max_p95_position_m``; ``common_scale`` (the factor on all of ``imu``'s
         values together that meets the tolerance, or None without error terms);
         ``min_rate_hz`` (:func:`~imunav.analysis.assessment.min_sample_rate`); ``presets``
         (``name``, ``final_p95_position_m``, ``suitable``, ``warnings``), best first; and
@@ -101,7 +103,7 @@ def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
     ImunavError
         If ``tolerance`` is not a finite number > 0, or for the reasons of the covariance
         analysis (a ``rate`` or ``duration`` that is not a finite number > 0, an unknown
-        ``output`` or ``vertical``, …).
+        ``kind`` or ``vertical``, …).
         Also if ``alignment`` is not ``"truth"`` or ``"level"``, ``align_window`` is not
         a finite number > 0, or ``"level"`` is asked on the WGS-84 Earth.
     """
@@ -111,12 +113,12 @@ def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
     check_steps(rate, duration)
     traj = LazyTrajectory(motion, rate, duration)
     al = {"alignment": alignment, "align_window": align_window}
-    cov = covariance_summary(motion, base, rate, duration, output=output, p=p, maxima=True,
+    cov = covariance_summary(motion, imu, rate, duration, kind=kind, p=p, maxima=True,
                              trajectory=traj, progress=progress, vertical=vertical, **al)
     terms = {}
     for term in cov.terms:
         triad, _, name = term.partition(".")
-        value = getattr(getattr(base, triad), name)
+        value = getattr(getattr(imu, triad), name)
         worst = cov.max_position_quantile(p, term=term)
         if worst <= 0:
             continue
@@ -127,7 +129,7 @@ def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
     worst_total = cov.max_position_quantile(p) if cov.terms else 0.0
     presets = []
     for name in PRESETS:
-        pc = covariance_summary(motion, ImuModel.load(name), rate, duration, output=output,
+        pc = covariance_summary(motion, ImuModel.load(name), rate, duration, kind=kind,
                                 tolerance=tolerance, trajectory=traj, progress=progress,
                                 vertical=vertical, **al)
         final = float(pc.position_quantile(p, index=-1)) if pc.terms else 0.0
@@ -137,11 +139,11 @@ def design(motion: BaseMotion, base: ImuModel, rate: float, tolerance: float,
                         "warnings": pc.warnings})
     presets.sort(key=lambda r: r["final_p95_position_m"])
     out = {
-        "motion": motion.name, "imu": base.name, "rate_hz": float(rate),
+        "motion": motion.name, "imu": imu.name, "rate_hz": float(rate),
         "tolerance_m": tolerance,
         "terms": terms,
         "common_scale": (tolerance / worst_total) if worst_total > 0 else None,
-        "min_rate_hz": min_sample_rate(motion, tolerance, duration, output),
+        "min_rate_hz": min_sample_rate(motion, tolerance, duration, kind),
         "presets": presets,
         "warnings": cov.warnings,
     }

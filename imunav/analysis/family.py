@@ -65,7 +65,7 @@ def run_family(motion: BaseMotion, rate: float, duration: float | None = None,
     """
     rows = []
     for kind in kinds:
-        sig = simulate_imu(motion, rate, duration, output=kind)
+        sig = simulate_imu(motion, rate, duration, kind=kind)
         q0, v0, p0 = initial_state(motion, sig)
         for name, algo in ALGORITHMS[kind].items():
             if algorithms and name not in algorithms:
@@ -88,7 +88,7 @@ def convergence(motion: BaseMotion, rates, kind: str, algorithms=None,
                 duration: float | None = None) -> list[dict]:
     """Maximum errors at each rate and the fitted orders (slope of log error vs log step)."""
     rows = []
-    sigs = {r: simulate_imu(motion, r, duration, output=kind) for r in rates}
+    sigs = {r: simulate_imu(motion, r, duration, kind=kind) for r in rates}
     for name, algo in ALGORITHMS[kind].items():
         if algorithms and name not in algorithms:
             continue
@@ -132,7 +132,7 @@ def poly_sweep(motion: BaseMotion, rate: float, configs, duration: float | None 
     Cost is counted as rate evaluations of the fitted polynomial per interval for the
     attitude (``nsub × order/2``), a machine-independent measure; wall time is also given.
     """
-    sig = simulate_imu(motion, rate, duration, output="increments")
+    sig = simulate_imu(motion, rate, duration, kind="increments")
     q0, v0, p0 = initial_state(motion, sig)
     qt = motion.attitude(sig.state_times())
     rows = []
@@ -155,12 +155,12 @@ def coning_correction_budget(motion: BaseMotion, rate: float, duration: float | 
                              ) -> dict:
     """Why exact increments need the coning term: the attitude error of ``q ⊗ exp(Δθ)`` vs the
     accumulated two-sample coning terms Σ Δθ_{k−1}×Δθ_k / 12 (both in rad, body frame)."""
-    sig = simulate_imu(motion, rate, duration, output="increments")
+    sig = simulate_imu(motion, rate, duration, kind="increments")
     q0, v0, p0 = initial_state(motion, sig)
     nav = navigate(sig, q0, v0, p0, algorithm="exact_exponential")
     th = sig.dtheta
     corr = cross(th[:-1], th[1:]) / 12
-    rates = simulate_imu(motion, rate, duration, output="rates")
+    rates = simulate_imu(motion, rate, duration, kind="rates")
     nr = navigate(rates, *initial_state(motion, rates), algorithm="exact_exponential")
     return {
         "exact_exponential_increments_rad": float(quat_angle(nav.quaternion[-1],

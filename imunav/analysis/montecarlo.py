@@ -13,7 +13,7 @@ With ``alignment="level"`` every run starts from its own levelled attitude: the 
 the motion's initial attitude for ``align_window`` seconds before ``t = 0`` (the ideal signals
 of rest are prepended, so each run's errors run on from the window into the motion), and roll and
 pitch come from that run's mean measured specific force over the window
-(:func:`imunav.strapdown.alignment.level_attitude`, the heading given) — what
+(:func:`imunav.strapdown.initial.level_attitude`, the heading given) — what
 :mod:`imunav.estimation.alignment` models in the covariance analysis.
 
 May import: ``imunav.core``, ``imunav.earth``, ``imunav.motion``, ``imunav.sensors``,
@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from imunav.core.constants import G0
+from imunav.core.deprecation import renamed
 from imunav.core.resources import check_memory
 from imunav.core.rotations import FloatArray, quat_to_dcm, quat_to_euler
 from imunav.core.threads import limit_blas
@@ -36,7 +37,7 @@ from imunav.estimation.alignment import WINDOW, check_alignment, window_samples
 from imunav.motion.base import BaseMotion, span
 from imunav.sensors.models import ImuModel, measure
 from imunav.sensors.simulate import interval_count, simulate_imu
-from imunav.strapdown.alignment import level_attitude
+from imunav.strapdown.initial import level_attitude
 from imunav.strapdown.registry import navigate_batch
 
 
@@ -229,8 +230,9 @@ def _run_errors(q, v, p, truth_q, truth_v, truth_p):
     return pos, vel, att
 
 
-def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: float | None = None,
-                runs: int = 100, seed: int = 0, output: str = "increments", g: float = G0,
+@renamed(model="imu", output="kind")
+def monte_carlo(motion: BaseMotion, imu: ImuModel, rate: float, duration: float | None = None,
+                runs: int = 100, seed: int = 0, kind: str = "increments", g: float = G0,
                 chunk: int | None = None, progress: bool = True,
                 scheduler: str | None = None, algorithm: str | None = None,
                 vertical: str = "free", *, alignment: str = "truth",
@@ -245,7 +247,7 @@ def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: floa
     ----------
     motion : BaseMotion
         The truth (flat, or an :class:`~imunav.motion.geodetic.EarthMotion` on WGS-84).
-    model : ImuModel
+    imu : ImuModel
         The sensor's errors.
     rate : float
         Output sample rate (Hz), > 0.
@@ -255,7 +257,7 @@ def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: floa
         Number of runs, ≥ 1.
     seed : int, default 0
         Random seed, ≥ 0 (run r draws from ``SeedSequence(seed).spawn(runs)[r]``).
-    output : {"increments", "rates"}, default "increments"
+    kind : {"increments", "rates"}, default "increments"
         The signal kind.
     g : float, default G0
         Gravity magnitude (m/s²) of the flat frame.
@@ -266,7 +268,7 @@ def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: floa
     scheduler : str, optional
         The address of a Dask scheduler to send the chunks to (needs ``imunav[dask]``).
     algorithm : str, optional
-        The strapdown algorithm; default the registry's most accurate for ``output``.
+        The strapdown algorithm; default the registry's most accurate for ``kind``.
     vertical : {"free", "hold"}, default "free"
         On the WGS-84 Earth: hold each run's vertical channel at the true height (a perfect
         height aid).
@@ -287,7 +289,7 @@ def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: floa
         If ``vertical`` is unknown, or ``"hold"`` for a flat motion; ``rate`` or the duration
         is not a finite number > 0; ``runs`` is not an integer ≥ 1 or ``seed`` not one ≥ 0;
         the runs would not fit in memory; ``scheduler`` is given without dask installed; or
-        for the reasons of the simulation and the navigation (an unknown ``output`` or
+        for the reasons of the simulation and the navigation (an unknown ``kind`` or
         ``algorithm``, …).
         Also if ``alignment`` is not ``"truth"`` or ``"level"``, ``align_window`` is not
         a finite number > 0, or ``"level"`` is asked on the WGS-84 Earth.
@@ -317,7 +319,7 @@ def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: floa
     seed = check_int(seed, "seed", 0)
     alignment, align_window = check_alignment(alignment, align_window, motion.frame)
     duration = span(motion, rate, duration)
-    k = model.decimation(rate)
+    k = imu.decimation(rate)
     n = interval_count(rate, duration)
     n_align = window_samples(rate, align_window) if alignment == "level" else 0
     chunk = chunk or max(1, min(runs, int(2e6 // max(n, 1))))
@@ -326,27 +328,27 @@ def monte_carlo(motion: BaseMotion, model: ImuModel, rate: float, duration: floa
                 + 40 * chunk * (n + n_align + 1) * min(k, 4))
     check_memory(need, f"{runs:,} Monte Carlo runs of {n:,} samples (internal rate "
                        f"{rate * k:g} Hz)")
-    sim = simulate_imu(motion, rate * k, duration, output=output, g=g)
-    n_out = len(sim) // k if output == "increments" else (len(sim) - 1) // k + 1
-    t = np.arange(n_out + (1 if output == "increments" else 0)) / rate
+    sim = simulate_imu(motion, rate * k, duration, kind=kind, g=g)
+    n_out = len(sim) // k if kind == "increments" else (len(sim) - 1) // k + 1
+    t = np.arange(n_out + (1 if kind == "increments" else 0)) / rate
     truth_q, truth_v, truth_p = motion.attitude(t), motion.velocity(t), motion.position(t)
     seeds = np.random.SeedSequence(seed).spawn(runs)
     parts = [seeds[i:i + chunk] for i in range(0, runs, chunk)]
     gyro, accel, yaw0 = sim.gyro, sim.accel, 0.0
     if n_align:                 # the ideal signals of rest at the initial attitude come first
         rest = quat_to_dcm(truth_q[0]).T @ np.array([0.0, 0.0, -g])
-        if output == "increments":
+        if kind == "increments":
             rest = rest / (rate * k)
         gyro = np.concatenate([np.zeros((n_align * k, 3)), gyro])
         accel = np.concatenate([np.tile(rest, (n_align * k, 1)), accel])
         yaw0 = float(quat_to_euler(truth_q[0])[0])
-    task = MonteCarloTask(gyro, accel, output, rate * k, k, model, rate, g, truth_q,
+    task = MonteCarloTask(gyro, accel, kind, rate * k, k, imu, rate, g, truth_q,
                           truth_v, truth_p, algorithm, motion.frame, vertical, n_align, yaw0)
     results = run_chunks(_mc_chunk, task, [(part,) for part in parts], scheduler=scheduler,
                          bar=_progress(len(parts), runs * n_out, progress))
     pos, vel, att, sat = (np.concatenate([r[i] for r in results]) for i in range(4))
     hor = None if results[0][4] is None else np.concatenate([r[4] for r in results])
-    return MonteCarloResult(t, pos, vel, att, sat, model.name, rate, output, hor, alignment)
+    return MonteCarloResult(t, pos, vel, att, sat, imu.name, rate, kind, hor, alignment)
 
 
 #: Samples above which a Monte Carlo always shows its bar; below, on a terminal, the bar

@@ -19,7 +19,7 @@ from imunav.core.kernels import FloatArray, quat_angle, quat_conj, quat_mul, qua
 from imunav.core.validation import ImunavError
 from imunav.io.realdata import READERS, Recording, data_path, read_generic, read_ximu, read_ximu3
 from imunav.sensors.signals import ImuSignals
-from imunav.strapdown.alignment import level_attitude, remove_static_biases
+from imunav.strapdown.initial import level_attitude, remove_static_biases
 from imunav.strapdown.registry import navigate
 
 __all__ = ["CHI2_2_95", "READERS", "Recording", "aligned_track", "antenna_track", "armse2d", "data_path",

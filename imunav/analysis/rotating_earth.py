@@ -27,7 +27,7 @@ from imunav.analysis.metrics import nav_errors
 from imunav.core.kernels import FloatArray
 from imunav.core.validation import ImunavError, check_positive
 from imunav.earth import check_origin, normal_gravity
-from imunav.estimation.error_model import EARTH, NAV, Trajectory, error_model, linearise
+from imunav.estimation.error_model import EARTH, NAV, Trajectory, frame_model, linearise
 from imunav.motion.analytic import Motion
 from imunav.motion.base import BaseMotion
 from imunav.motion.geodetic import EarthMotion
@@ -130,7 +130,7 @@ def bias_response(motion: EarthMotion, rate: float, duration: float, *,
         ``attitude`` (N+1, 3) rad, the errors in the local NED frame.
     """
     traj = Trajectory.of(motion, rate, duration)
-    em = error_model(traj, vertical)
+    em = frame_model(traj, vertical)
     ba = np.asarray(accel, dtype=float)
     bg = np.asarray(gyro, dtype=float)
     parts = []
@@ -179,7 +179,7 @@ def flat_frame_error(motion: BaseMotion, origin: tuple[float, float, float], rat
         against the local truth.
     """
     on_earth = EarthMotion(motion, origin)
-    sig = simulate_imu(on_earth, rate, duration, output="increments")
+    sig = simulate_imu(on_earth, rate, duration, kind="increments")
     g = float(normal_gravity(origin[0], origin[2]))
     nav = navigate(sig, *motion.states([sig.t0]).initial(), algorithm=algorithm, g=g)
     e = nav_errors(nav, motion)

@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from imunav.analysis.metrics import NavErrors, fit_order, nav_errors
+from imunav.core.deprecation import renamed
 from imunav.core.rotations import FloatArray
 from imunav.core.states import States
 from imunav.motion.base import BaseMotion
@@ -70,7 +71,8 @@ class RoundTrip:
     errors: NavErrors
 
 
-def round_trip(motion: BaseMotion | None = None, rate: float = 100.0, output: str = "increments",
+@renamed(output="kind")
+def round_trip(motion: BaseMotion | None = None, rate: float = 100.0, kind: str = "increments",
                algorithm: str | None = None, duration: float | None = None) -> RoundTrip:
     """Simulate ideal signals for a motion and navigate them back from the true initial state.
 
@@ -83,7 +85,7 @@ def round_trip(motion: BaseMotion | None = None, rate: float = 100.0, output: st
         The motion; default the figure-eight of :func:`~imunav.motion.catalog.figure_eight`.
     rate : float, default 100.0
         Sample rate (Hz).
-    output : {"rates", "increments"}, default "increments"
+    kind : {"rates", "increments"}, default "increments"
         The signal kind.
     algorithm : str, optional
         A name from ``ALGORITHMS[output]``; default the most accurate.
@@ -98,7 +100,7 @@ def round_trip(motion: BaseMotion | None = None, rate: float = 100.0, output: st
     ------
     ImunavError
         For the reasons of :func:`~imunav.sensors.simulate.simulate_imu` and
-        :func:`~imunav.strapdown.registry.navigate` (an unknown ``output`` or ``algorithm``,
+        :func:`~imunav.strapdown.registry.navigate` (an unknown ``kind`` or ``algorithm``,
         a ``rate`` or ``duration`` that is not a finite number > 0, …).
 
     Examples
@@ -109,7 +111,7 @@ def round_trip(motion: BaseMotion | None = None, rate: float = 100.0, output: st
     ('poly8_m6', True)
     """
     motion = motion or figure_eight()
-    sig = simulate_imu(motion, rate, duration, output=output)
+    sig = simulate_imu(motion, rate, duration, kind=kind)
     nav = navigate(sig, *initial_state(motion, sig), algorithm=algorithm)
     return RoundTrip(motion, sig, nav, nav_errors(nav, motion))
 

@@ -231,7 +231,7 @@ def zupt_walk(motion: BaseMotion, imu: ImuModel | str, rate: float = 100.0, *,
         Also the RTS smoother.
     ideal : ImuSignals, optional
         The ideal increments of ``motion`` at the IMU's internal rate (``simulate_imu(motion,
-        rate · imu.decimation(rate), output="increments")``): most of a simulation's cost, the
+        rate · imu.decimation(rate), kind="increments")``): most of a simulation's cost, the
         same for every preset and detector, so a table of runs simulates them once. The result
         is the same as without (the IMU's errors are applied to them exactly as
         :func:`~imunav.sensors.simulate.simulate_imu` does).
@@ -269,11 +269,11 @@ def zupt_walk(motion: BaseMotion, imu: ImuModel | str, rate: float = 100.0, *,
                    float(err.max()), mid, stride_err, stat, ts, match_stances(true, found))
 
 
-def _measured(motion, model: ImuModel, rate: float, seed: int, ideal) -> ImuSignals:
-    """What ``simulate_imu(motion, rate, output="increments", imu=model, seed=seed)`` returns,
+def _measured(motion, imu: ImuModel, rate: float, seed: int, ideal) -> ImuSignals:
+    """What ``simulate_imu(motion, rate, kind="increments", imu=imu, seed=seed)`` returns,
     from the ideal increments at the internal rate: the same random streams, the same chunks
     (``tests/test_foot_walk.py`` checks it bit for bit)."""
-    k = model.decimation(rate)
+    k = imu.decimation(rate)
     n = k * interval_count(rate, float(motion.duration))
     if not isinstance(ideal, ImuSignals) or ideal.kind != "increments" or len(ideal) != n \
             or not np.isclose(ideal.rate, rate * k, rtol=1e-12, atol=0.0):
@@ -283,7 +283,7 @@ def _measured(motion, model: ImuModel, rate: float, seed: int, ideal) -> ImuSign
                           f"internal rate ({rate * k:g} Hz, {n} samples), got {got}",
                           argument="ideal")
     rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0])
-    stream = MeasureStream(model, "increments", rate * k, rng, k)
+    stream = MeasureStream(imu, "increments", rate * k, rng, k)
     size = max(k, CHUNK // k * k)
     parts = []
     for lo in range(0, n, size):
@@ -293,14 +293,14 @@ def _measured(motion, model: ImuModel, rate: float, seed: int, ideal) -> ImuSign
     return ImuSignals(t, gyro, accel, "increments", float(rate), ideal.g, meta=dict(ideal.meta))
 
 
-def _detect(motion, model, rate, seed, threshold, window, ideal=None):
+def _detect(motion, imu, rate, seed, threshold, window, ideal=None):
     """The IMU record of the walk and the SHOE detector on it: the mean rates of each
     increment at the interval's middle, as the filter's own ``"shoe"`` path."""
     if ideal is None:
-        sig = simulate_imu(motion, rate, float(motion.duration), output="increments",
-                           imu=model, seed=seed)
+        sig = simulate_imu(motion, rate, float(motion.duration), kind="increments",
+                           imu=imu, seed=seed)
     else:
-        sig = _measured(motion, model, rate, seed, ideal)
+        sig = _measured(motion, imu, rate, seed, ideal)
     h = 1.0 / rate
     w, a, ts = sig.gyro / h, sig.accel / h, sig.t - h / 2
     stat = shoe_statistic(w, a, g=sig.g, window=window)
@@ -362,7 +362,7 @@ def walk_table(motion: BaseMotion, presets: list[str], rate: float = 100.0, *,
         model = ImuModel.load(p)
         r = rate * model.decimation(rate)
         if r not in ideal:
-            ideal[r] = simulate_imu(motion, r, float(motion.duration), output="increments")
+            ideal[r] = simulate_imu(motion, r, float(motion.duration), kind="increments")
         for d in detectors:
             w = zupt_walk(motion, model, rate, detector=d, ideal=ideal[r], **kw)
             rows.append({"preset": p, "detector": d, "distance_m": w.distance, "drift_m": w.drift,

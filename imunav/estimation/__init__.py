@@ -1,10 +1,13 @@
 """Floor 4 — estimation: the navigation error model, the Kalman core, and the aided filters.
 
-Modules: :mod:`~imunav.estimation.error_model` (the error state, its dynamics along a
-trajectory, the sensor error terms as error sources), :mod:`~imunav.estimation.discretisation`
-(exact ``Φ`` and ``Q_d`` of a step), :mod:`~imunav.estimation.propagation` (covariance
-propagation, a piece of trajectory at a time), :mod:`~imunav.estimation.kalman` (the Kalman
-core: block prediction, Joseph update with its χ² gate — for one filter or a batch),
+Modules: :mod:`~imunav.estimation.error_model` (the error state and its dynamics along a
+trajectory: the nominal trajectory in :mod:`~imunav.estimation.nominal`, the sensor error terms
+as error sources in :mod:`~imunav.estimation.error_sources`, the flat frame's and the Earth's
+dynamics in :mod:`~imunav.estimation.flat_model` and :mod:`~imunav.estimation.earth_model`),
+:mod:`~imunav.estimation.discretisation` (exact ``Φ`` and ``Q_d`` of a step),
+:mod:`~imunav.estimation.propagation` (covariance propagation, a piece of trajectory at a time),
+:mod:`~imunav.estimation.kalman` (the Kalman core: block prediction, Joseph update with its χ²
+gate — for one filter or a batch),
 :mod:`~imunav.estimation.system` (the aided filter's error state and discrete dynamics),
 :mod:`~imunav.estimation.schedule` (readings mapped to IMU nodes),
 :mod:`~imunav.estimation.measurements` (the measurement contract and the aids' models),
@@ -28,7 +31,9 @@ from imunav.estimation.error_model import (
     EarthErrorModel,
     ErrorSource,
     FlatErrorModel,
+    LazyTrajectory,
     Trajectory,
+    frame_model,
     linearise,
     local_error_map,
 )
@@ -57,11 +62,10 @@ from imunav.estimation.propagation import propagate, propagate_chunks
 from imunav.estimation.smoother import rts, rts_step
 from imunav.estimation.system import AidedSystem
 
-__all__ = ["DP", "DV", "EARTH", "EARTH_HOLD", "FLAT", "NAV", "PHI", "SD_COLUMNS", "Aid",
-           "AidedSystem", "Baro", "BatchResult", "EarthErrorModel", "ErrorSource",
-           "FilterResult", "FlatErrorModel", "GnssFix", "Heading", "Innovations", "Measurement",
-           "NavPoint", "Nhc", "Odometer", "StepBlocks", "Trajectory", "Update", "Zupt",
-           "flat_transition", "linearise", "local_error_map", "phi_functions", "predict",
-           "predict_blocks", "process_noise", "propagate", "propagate_chunks", "rts",
-           "rts_step", "run_filter", "run_filter_batch", "run_smoother", "update",
-           "update_batch", "van_loan"]
+__all__ = ["DP", "DV", "EARTH", "EARTH_HOLD", "FLAT", "NAV", "PHI", "SD_COLUMNS", "Aid", "AidedSystem",
+           "Baro", "BatchResult", "EarthErrorModel", "ErrorSource", "FilterResult", "FlatErrorModel",
+           "GnssFix", "Heading", "Innovations", "LazyTrajectory", "Measurement", "NavPoint", "Nhc",
+           "Odometer", "StepBlocks", "Trajectory", "Update", "Zupt", "flat_transition", "frame_model",
+           "linearise", "local_error_map", "phi_functions", "predict", "predict_blocks", "process_noise",
+           "propagate", "propagate_chunks", "rts", "rts_step", "run_filter", "run_filter_batch",
+           "run_smoother", "update", "update_batch", "van_loan"]

@@ -3,7 +3,7 @@
 An assessment that starts the navigation from the true attitude (``alignment="truth"``) charges
 every accelerometer bias to the position: ``½ b t²``. A real strapdown system first *levels*: at
 rest it averages its accelerometer over a window and takes roll and pitch from the measured
-gravity (:func:`imunav.strapdown.alignment.level_attitude`; the heading is given). The biased
+gravity (:func:`imunav.strapdown.initial.level_attitude`; the heading is given). The biased
 accelerometer then tilts the initial attitude by just the angle that cancels its own horizontal
 bias — the bias/tilt equivalence — and only what *changes* after the window (noise, a wandering
 bias, errors that depend on the motion: scale factor, misalignment under acceleration) grows

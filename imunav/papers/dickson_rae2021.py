@@ -47,9 +47,9 @@ from imunav.core.validation import ImunavError, as_float_array, check_positive
 from imunav.motion.analytic import Motion
 from imunav.motion.laws import T
 from imunav.papers.records import record, small
-from imunav.plotting.style import colour, figure, style
+from imunav.plotting.style import colour, figure, thing_style
 from imunav.sensors.simulate import simulate_imu
-from imunav.strapdown.alignment import gravity_reading, level_attitude, remove_static_biases
+from imunav.strapdown.initial import gravity_reading, level_attitude, remove_static_biases
 from imunav.strapdown.scan import cumulative_product
 
 #: The paper, as its text prints it (the notebook's and the book's bibliography).
@@ -96,7 +96,7 @@ def initial_attitude_from_accel(accel: npt.ArrayLike, g: float = G0, tol: float 
                                 yaw: float = 0.0) -> FloatArray:
     """q_nb from the mean resting specific force: roll and pitch from gravity, yaw given, with the
     paper's necessary condition √(a_X² + a_Y² + a_Z²) ≈ g (within ``tol``). The general
-    levelling of :func:`imunav.strapdown.alignment.level_attitude`."""
+    levelling of :func:`imunav.strapdown.initial.level_attitude`."""
     return level_attitude(accel, g, tol, yaw)
 
 
@@ -104,7 +104,7 @@ def zero_biases(gyro: FloatArray, accel: FloatArray, window: slice, q0: FloatArr
                 g: float = G0) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Assumption A: subtract pre-event offsets (gyro: mean; accelerometer: mean minus the
     gravity reading of the initial orientation). Returns (gyro, accel, gyro_bias, accel_bias);
-    :func:`imunav.strapdown.alignment.remove_static_biases`."""
+    :func:`imunav.strapdown.initial.remove_static_biases`."""
     return remove_static_biases(gyro, accel, window, q0, g)
 
 
@@ -301,7 +301,7 @@ class BlastRecording:
 def _ideal_blast(rate: float, g: float, fall_from: float | None = None):
     """The ideal rate signals of :func:`blast_motion` (the costly part, computed once)."""
     motion = blast_motion(fall_from=fall_from)
-    return motion, simulate_imu(motion, rate, motion.duration, output="rates", g=g)
+    return motion, simulate_imu(motion, rate, motion.duration, kind="rates", g=g)
 
 
 def record_blast(motion: Motion | None = None, rate: float = 100_000.0, seed: int = 0,
@@ -326,7 +326,7 @@ def record_blast(motion: Motion | None = None, rate: float = 100_000.0, seed: in
     if motion is None:
         motion, sig = _ideal_blast(float(rate), float(g), fall_from)
     else:
-        sig = simulate_imu(motion, rate, motion.duration, output="rates", g=g)
+        sig = simulate_imu(motion, rate, motion.duration, kind="rates", g=g)
     rng = np.random.default_rng(seed)
     gr, ar = gyro_range_dps * DEG, accel_range_g * g
     gyro = sig.gyro + rng.normal(0, noise_dps * DEG, sig.gyro.shape)
@@ -441,7 +441,7 @@ def plot_rates(rec: BlastRecording, ax=None):
     s = slice(None, None, 20)
     for i, c in enumerate("XYZ"):
         ax.plot(rec.t[s], np.degrees(rec.gyro[s, i]), lw=0.9, label=f"about {c}",
-                **style(f"axis.{'xyz'[i]}"))
+                **thing_style(f"axis.{'xyz'[i]}"))
     ax.axhline(np.degrees(rec.gyro_range), color="0.3", ls=":", lw=1, label="gyro range")
     ax.axhline(-np.degrees(rec.gyro_range), color="0.3", ls=":", lw=1)
     ax.set(xlabel="t (s)", ylabel="angular rate (°/s)",

@@ -42,7 +42,7 @@ from imunav.core.rotations import FloatArray, euler_to_quat, quat_angle, quat_fr
 from imunav.core.validation import ImunavError, check_positive
 from imunav.motion.analytic import Motion
 from imunav.papers.records import judge, printed_precision, record, relative_difference, small
-from imunav.plotting.style import colour, figure, rate_ticks, style
+from imunav.plotting.style import colour, figure, rate_ticks, thing_style
 from imunav.sensors.simulate import simulate_imu
 from imunav.strapdown.registry import navigate
 from imunav.strapdown.scan import cumulative_product, prefix_product
@@ -276,7 +276,7 @@ def restore_physical(motion: Motion, rate: float, duration: float, kind: str, sc
     rule, as its (23)–(26) use G_k), so even the exponential (36) is first order in attitude;
     from increments it turns by Δθ = ∫ω dt and only the coning of the step is lost.
     """
-    sig = simulate_imu(motion, rate, duration, output=kind)
+    sig = simulate_imu(motion, rate, duration, kind=kind)
     t0 = 0.0
     q0, v0, p0 = (motion.attitude([t0])[0], motion.velocity([t0])[0], motion.position([t0])[0])
     if scheme.startswith("imunav:"):
@@ -664,7 +664,7 @@ def combo_name(a: str, b: str) -> str:
 def combo_style(a: str, b: str) -> dict:
     """Colour and line style of a Part A / Part B pair: Part B's scheme's colour (it sets the
     error), solid when both parts agree, dotted when Part A differs."""
-    return style(b, linestyle="-" if a == b else ":")
+    return thing_style(b, linestyle="-" if a == b else ":")
 
 
 def _log_floor(ax, curves, decades: float = 8.0) -> None:

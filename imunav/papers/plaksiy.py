@@ -28,7 +28,7 @@ from imunav.motion.laws import T as LAW_T
 from imunav.motion.quaternion_law import PAPER_K as PAPER_K  # the paper's Fig. 1–3 frequencies
 from imunav.motion.quaternion_law import FourRotationMotion
 from imunav.papers.records import judge, record, small
-from imunav.plotting.style import colour, figure, style
+from imunav.plotting.style import colour, figure, thing_style
 from imunav.sensors.quadrature import integrate_intervals
 from imunav.strapdown.scan import cumulative_product
 from imunav.symbolic import plaksiy as S
@@ -400,7 +400,7 @@ def plot_drift(runs: dict[str, list[DriftRun]], fig=None):
         axs = fig.subplots(1, len(runs), sharey=True)
     for ax, (key, rs) in zip(np.atleast_1d(axs), runs.items(), strict=True):
         for r in rs:
-            ax.plot(r.t, 1e3 * r.drift, label=FORM_NAMES[r.form], **style(r.form))
+            ax.plot(r.t, 1e3 * r.drift, label=FORM_NAMES[r.form], **thing_style(r.form))
         ax.plot([rs[0].t[-1]], [1e3 * TABLE1[key][1]], "k*", ms=9, label="Table 1")
         ax.set(title=SET_TITLES[key], xlabel="t (s)")
     np.atleast_1d(axs)[0].set_ylabel("drift (mrad)")
@@ -423,7 +423,7 @@ def plot_coefficient_lab(alphas, on_line: dict[str, FloatArray], grid_alphas, gr
     else:
         ax, ax2 = fig.subplots(1, 2)
     for form, d in on_line.items():
-        ax.semilogy(alphas, d, label=FORM_NAMES[form], **style(form))
+        ax.semilogy(alphas, d, label=FORM_NAMES[form], **thing_style(form))
     pa = [TABLE1[k][0][0] for k in TABLE1]
     ax.semilogy(pa, [TABLE1[k][1] for k in TABLE1], "k*", ms=8,
                 label="Table 1 (Miller, conic, new)")

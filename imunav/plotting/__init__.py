@@ -1,9 +1,9 @@
 """The plot functions behind the notebooks and ``imunav reproduce`` (general ones; each paper
 module draws its own figures), in the one figure style of :mod:`imunav.plotting.style` — re-exported
 here, so ``from imunav.plotting import styled, use_book_style, check_figure`` works: one readable
-name, one colour and line style per named thing in every figure, and the figure check. (The
-package's attribute ``style`` is the function :func:`style`, as before the move; import the
-module's names from it directly: ``from imunav.plotting.style import check_figure``.)
+name, one colour and line style per named thing in every figure (:func:`thing_style`), and the
+figure check. ``imunav.plotting.style`` is that module (its function ``style``, which hid it, is
+now ``thing_style``; the old call still works with a warning).
 
 Each plot function takes computed results and an optional axes/figure, draws, and returns it;
 nothing here computes what the analysis layer already does.
@@ -39,8 +39,8 @@ from imunav.plotting.style import (  # noqa: F401 — the style's API, re-export
     name,
     rate_ticks,
     series_style,
-    style,
     styled,
+    thing_style,
     units_in,
     use_book_style,
 )

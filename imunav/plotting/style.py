@@ -2,14 +2,16 @@
 (re-exported by :mod:`imunav.plotting`, where the plot functions are). It imports nothing of
 imunav, so the papers — one floor below the plotting room — may import it (the one exception to
 the floors, ``tests/test_layering.py``): every module that draws uses the same names and colours.
-``imunav.core.style``, its former home, still imports with a ``DeprecationWarning`` until 0.3.
+``imunav.core.style``, its former home, still imports with a ``DeprecationWarning`` until 0.3;
+so does the function ``style`` of this module, now :func:`thing_style` (it shared the module's
+name, and hid the module behind ``imunav.plotting.style``): calling the module runs it.
 
 **Style.** Call :func:`use_book_style` once (the first cell of every notebook does): figures are
 stored at 150 dpi, their text at 8–10 pt, and they are displayed at their size in inches (96 CSS
 pixels per inch), so a figure no wider than the book's text column (:data:`MAX_WIDTH_IN`, 7 in)
 keeps its text at its size on the page. Every named thing — an algorithm, an error term, an IMU
 preset, truth and estimate, a paper's scheme — has one readable name (:func:`name`) and one colour
-and line style (:func:`style`; :func:`styled` adds the label) that hold in every figure::
+and line style (:func:`thing_style`; :func:`styled` adds the label) that hold in every figure::
 
     ax.plot(t, err, **styled("increments/coning2"))      # colour, line style, "two-sample coning"
 
@@ -34,6 +36,9 @@ May import: nothing in imunav (numpy; matplotlib and IPython lazily, inside the 
 from __future__ import annotations
 
 import re
+import sys
+import types
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -188,7 +193,7 @@ def colour(thing: str) -> str:
     return THINGS[_key(thing)].colour
 
 
-def style(thing: str, **kw) -> dict:
+def thing_style(thing: str, **kw) -> dict:
     """``color`` and ``linestyle`` of ``thing`` for ``ax.plot`` (keywords override)."""
     t = THINGS[_key(thing)]
     for short, full in (("ls", "linestyle"), ("c", "color")):
@@ -198,8 +203,8 @@ def style(thing: str, **kw) -> dict:
 
 
 def styled(thing: str, **kw) -> dict:
-    """:func:`style` plus ``label=name(thing)``: ``ax.plot(x, y, **styled("truth"))``."""
-    return {"label": name(thing), **style(thing, **kw)}
+    """:func:`thing_style` plus ``label=name(thing)``: ``ax.plot(x, y, **styled("truth"))``."""
+    return {"label": name(thing), **thing_style(thing, **kw)}
 
 
 def use_book_style() -> None:
@@ -688,3 +693,31 @@ ALGORITHM_GROUPS = (
                              "increments/ignagni3", "increments/ignagni4")),
     ("increments, offline", ("increments/poly6_m4", "increments/poly8_m6")),
 )
+
+
+# ------------------------------------------------------------ the former name (issue 35)
+
+#: Old names of this module: ``style``, the function :func:`thing_style` (it hid the module).
+#: This module imports nothing of imunav, so it keeps its own deprecation here (the rest of
+#: imunav declares its old names through ``imunav.core.deprecation``).
+RENAMED = {"style": "imunav.plotting.style.thing_style"}
+_WARNING = ("the function imunav.plotting.style.style is now thing_style (it shared the name of "
+            "its module); style will stop working in imunav 0.3")
+
+
+def __getattr__(name: str):
+    if name == "style":
+        warnings.warn(_WARNING, DeprecationWarning, stacklevel=2)
+        return thing_style
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+class _CallableModule(types.ModuleType):
+    """This module, callable as the function ``style`` it held: ``style("truth")``."""
+
+    def __call__(self, thing: str, **kw) -> dict:
+        warnings.warn(_WARNING, DeprecationWarning, stacklevel=2)
+        return thing_style(thing, **kw)
+
+
+sys.modules[__name__].__class__ = _CallableModule

@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from imunav.core.deprecation import renamed
 from imunav.core.kernels import FloatArray
 from imunav.core.validation import ImunavError, check_positive, read_toml
 from imunav.sensors.presets import PRESETS
@@ -567,7 +568,7 @@ class MeasureStream:
 
     Parameters
     ----------
-    model : ImuModel
+    imu : ImuModel
     kind : {"rates", "increments"}
     rate : float
         Rate of the ideal samples (Hz).
@@ -577,11 +578,12 @@ class MeasureStream:
         Internal samples per output sample.
     """
 
-    def __init__(self, model: ImuModel, kind: str, rate: float, rng: np.random.Generator,
+    @renamed(model="imu")
+    def __init__(self, imu: ImuModel, kind: str, rate: float, rng: np.random.Generator,
                  decimate: int = 1):
         g2 = np.random.default_rng(rng.integers(2**63))
-        self.gyro = TriadStream(model.gyro, kind, rate, g2, decimate)
-        self.accel = TriadStream(model.accel, kind, rate, rng, decimate)
+        self.gyro = TriadStream(imu.gyro, kind, rate, g2, decimate)
+        self.accel = TriadStream(imu.accel, kind, rate, rng, decimate)
 
     def process(self, gyro: FloatArray, accel: FloatArray
                 ) -> tuple[FloatArray, FloatArray, np.ndarray]:
@@ -608,14 +610,15 @@ class MeasureStream:
         return gm, am, fg | fa
 
 
-def measure(model: ImuModel, gyro: FloatArray, accel: FloatArray, kind: str, rate: float,
+@renamed(model="imu")
+def measure(imu: ImuModel, gyro: FloatArray, accel: FloatArray, kind: str, rate: float,
             rng, decimate: int = 1) -> tuple[FloatArray, FloatArray, np.ndarray]:
     """One run of a 6-axis IMU's errors on whole ideal signals (a :class:`MeasureStream` fed
     once).
 
     Parameters
     ----------
-    model : ImuModel
+    imu : ImuModel
         The sensor's errors.
     gyro : ndarray, shape (n, 3)
         Ideal ω_b (rad/s) or Δθ (rad).
@@ -654,4 +657,4 @@ def measure(model: ImuModel, gyro: FloatArray, accel: FloatArray, kind: str, rat
     >>> bool((g == g[0]).all()), bool(a.any()), bool(clipped.any())
     (True, False, False)
     """
-    return MeasureStream(model, kind, rate, rng, decimate).process(gyro, accel)
+    return MeasureStream(imu, kind, rate, rng, decimate).process(gyro, accel)

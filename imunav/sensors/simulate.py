@@ -28,6 +28,7 @@ import numpy as np
 import numpy.typing as npt
 
 from imunav.core.constants import G0
+from imunav.core.deprecation import renamed
 from imunav.core.resources import check_memory
 from imunav.core.rotations import FloatArray
 from imunav.core.states import States
@@ -180,8 +181,9 @@ def _duration(motion: BaseMotion, duration, rate: float) -> float:
     return span(motion, rate, duration)
 
 
+@renamed(output="kind")
 def ideal_chunks(motion: BaseMotion, rate: float, duration: float | None = None, *,
-                 output: str = "rates", g: float = G0, t0: float = 0.0, chunk: int = CHUNK
+                 kind: str = "rates", g: float = G0, t0: float = 0.0, chunk: int = CHUNK
                  ) -> Iterator[tuple[FloatArray, FloatArray, FloatArray]]:
     """The ideal signals of :func:`simulate_imu` as consecutive ``(t, gyro, accel)`` chunks.
 
@@ -197,7 +199,7 @@ def ideal_chunks(motion: BaseMotion, rate: float, duration: float | None = None,
         Sample rate (Hz), > 0.
     duration : float, optional
         Seconds; default the motion's own (a motion from data stops at its last whole sample).
-    output : {"rates", "increments"}, default "rates"
+    kind : {"rates", "increments"}, default "rates"
         What to produce (see :func:`simulate_imu`).
     g : float, default G0
         Gravity magnitude (m/s²), ``g_n = [0, 0, +g]``.
@@ -218,23 +220,23 @@ def ideal_chunks(motion: BaseMotion, rate: float, duration: float | None = None,
     Raises
     ------
     ImunavError
-        On the first ``next``: if ``output`` is unknown, ``rate``, the duration or ``g`` is not
+        On the first ``next``: if ``kind`` is unknown, ``rate``, the duration or ``g`` is not
         a finite number > 0, ``t0`` is not a finite number, or the run exceeds
         :data:`MAX_SAMPLES`; later, if the motion is not finite at a sample.
     """
-    if output not in KINDS:
-        raise ImunavError(f"output must be one of {KINDS}, got {output!r}")
+    if kind not in KINDS:
+        raise ImunavError(f"kind must be one of {KINDS}, got {kind!r}")
     duration = _duration(motion, duration, rate)
     rate = check_positive(rate, "rate")
     g = check_gravity(g)
     t0 = float(as_float_array(t0, "t0", ndim=0))
     n = interval_count(rate, duration)
     check_work(n, rate)
-    first, last = (0, n + 1) if output == "rates" else (1, n + 1)      # sample indices k
+    first, last = (0, n + 1) if kind == "rates" else (1, n + 1)      # sample indices k
     for lo in range(first, last, chunk):
         k = np.arange(lo, min(last, lo + chunk))
         t = t0 + k / rate
-        if output == "rates":
+        if kind == "rates":
             yield t, motion.angular_rate(t), motion.specific_force(t, g)
         else:
             bp = motion.breakpoints
@@ -252,14 +254,15 @@ def _imu(motion: BaseMotion, t: FloatArray, g: float) -> FloatArray:
     return np.concatenate([motion.angular_rate(t), motion.specific_force(t, g)], axis=-1)
 
 
-def measured_chunks(motion: BaseMotion, model, rate: float, duration: float | None = None, *,
-                    output: str = "rates", g: float = G0, t0: float = 0.0, seed: int = 0,
+@renamed(model="imu", output="kind")
+def measured_chunks(motion: BaseMotion, imu, rate: float, duration: float | None = None, *,
+                    kind: str = "rates", g: float = G0, t0: float = 0.0, seed: int = 0,
                     chunk: int = CHUNK, on_clip=None
                     ) -> Iterator[tuple[FloatArray, FloatArray, FloatArray]]:
-    """``(t, gyro, accel)`` chunks of what ``model`` outputs on ``motion`` at ``rate``.
+    """``(t, gyro, accel)`` chunks of what ``imu`` outputs on ``motion`` at ``rate``.
 
     The ideal signals are simulated at the sensor's internal rate (``rate ×
-    model.decimation(rate)``), then its errors are applied and the output decimated
+    imu.decimation(rate)``), then its errors are applied and the output decimated
     (:class:`~imunav.sensors.models.MeasureStream`). The random errors are run 0 of the Monte
     Carlo streams of ``seed`` (``SeedSequence(seed).spawn(1)[0]``), so a Monte Carlo's first run
     and this simulation agree.
@@ -268,13 +271,13 @@ def measured_chunks(motion: BaseMotion, model, rate: float, duration: float | No
     ----------
     motion : BaseMotion
         The motion.
-    model : ImuModel
+    imu : ImuModel
         The sensor's errors (:class:`~imunav.sensors.models.ImuModel`).
     rate : float
         Output rate (Hz), > 0.
     duration : float, optional
         Seconds; default the motion's own.
-    output : {"rates", "increments"}, default "rates"
+    kind : {"rates", "increments"}, default "rates"
         What to produce (see :func:`simulate_imu`).
     g : float, default G0
         Gravity magnitude (m/s²).
@@ -304,21 +307,22 @@ def measured_chunks(motion: BaseMotion, model, rate: float, duration: float | No
         :func:`ideal_chunks` (at the internal rate).
     """
     seed = check_int(seed, "seed")
-    k = model.decimation(rate)
+    k = imu.decimation(rate)
     rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(1)[0])
-    stream = MeasureStream(model, output, rate * k, rng, k)
+    stream = MeasureStream(imu, kind, rate * k, rng, k)
     size = max(k, chunk // k * k)
     duration = span(motion, rate, duration)          # whole output intervals (data motions)
-    for t, gyro, accel in ideal_chunks(motion, rate * k, duration, output=output, g=g, t0=t0,
+    for t, gyro, accel in ideal_chunks(motion, rate * k, duration, kind=kind, g=g, t0=t0,
                                        chunk=size):
         gm, am, flags = stream.process(gyro, accel)
         if on_clip is not None and flags.any():
             on_clip(int(flags.sum()))
-        yield (t[::k] if output == "rates" else t[k - 1::k][: gm.shape[0]]), gm, am
+        yield (t[::k] if kind == "rates" else t[k - 1::k][: gm.shape[0]]), gm, am
 
 
+@renamed(output="kind")
 def signal_chunks(motion: BaseMotion, rate: float, duration: float | None = None, *,
-                  output: str = "rates", g: float = G0, t0: float = 0.0, imu=None, seed: int = 0,
+                  kind: str = "rates", g: float = G0, t0: float = 0.0, imu=None, seed: int = 0,
                   chunk: int = CHUNK, on_clip=None
                   ) -> Iterator[tuple[FloatArray, FloatArray, FloatArray]]:
     """The signals of :func:`simulate_imu` as ``(t, gyro, accel)`` chunks: ideal
@@ -331,7 +335,7 @@ def signal_chunks(motion: BaseMotion, rate: float, duration: float | None = None
         Output rate (Hz).
     duration : float, optional
         Seconds; default the motion's own.
-    output : {"rates", "increments"}
+    kind : {"rates", "increments"}
     g : float
         Gravity magnitude (m/s²).
     t0 : float
@@ -351,8 +355,8 @@ def signal_chunks(motion: BaseMotion, rate: float, duration: float | None = None
         ``(t, gyro, accel)``, shapes (n,), (n, 3), (n, 3).
     """
     if imu is None:
-        return ideal_chunks(motion, rate, duration, output=output, g=g, t0=t0, chunk=chunk)
-    return measured_chunks(motion, imu, rate, duration, output=output, g=g, t0=t0, seed=seed,
+        return ideal_chunks(motion, rate, duration, kind=kind, g=g, t0=t0, chunk=chunk)
+    return measured_chunks(motion, imu, rate, duration, kind=kind, g=g, t0=t0, seed=seed,
                            chunk=chunk, on_clip=on_clip)
 
 
@@ -384,8 +388,9 @@ def truth_chunks(motion: BaseMotion, rate: float, duration: float | None = None,
         yield motion.states(np.arange(lo, min(n + 1, lo + chunk)) / rate)
 
 
+@renamed(output="kind")
 def simulate_imu(motion: BaseMotion, rate: float, duration: float | None = None, *,
-                 output: str = "rates", g: float = G0, t0: float = 0.0, imu=None,
+                 kind: str = "rates", g: float = G0, t0: float = 0.0, imu=None,
                  seed: int = 0) -> ImuSignals:
     """IMU output for ``motion``: ideal, or with the errors of ``imu``.
 
@@ -396,7 +401,7 @@ def simulate_imu(motion: BaseMotion, rate: float, duration: float | None = None,
         Output sample rate (Hz), > 0.
     duration : float, optional
         Seconds to simulate; defaults to ``motion.duration``.
-    output : {"rates", "increments"}
+    kind : {"rates", "increments"}
         ``rates``: ``ω_b``, ``f_b`` at ``t_k``, k = 0..N. ``increments``: ``Δθ``, ``Δv`` over
         ``(t_{k−1}, t_k]``, k = 1..N, stamped with ``t_k``.
     g : float
@@ -415,7 +420,7 @@ def simulate_imu(motion: BaseMotion, rate: float, duration: float | None = None,
     Raises
     ------
     ImunavError
-        If ``output`` is unknown; ``rate``, the duration (given or the motion's) or ``g`` is
+        If ``kind`` is unknown; ``rate``, the duration (given or the motion's) or ``g`` is
         not a finite number > 0; ``seed`` is not an integer ≥ 0; the motion is not finite at
         a sample; the run (at the sensor's internal rate) would exceed
         :data:`MAX_SAMPLES`; or the arrays would not fit in memory (the command line streams
@@ -424,7 +429,7 @@ def simulate_imu(motion: BaseMotion, rate: float, duration: float | None = None,
     Examples
     --------
     >>> from imunav.motion import Motion
-    >>> sig = simulate_imu(Motion(yaw="0.5*t", duration=1.0), rate=10, output="increments")
+    >>> sig = simulate_imu(Motion(yaw="0.5*t", duration=1.0), rate=10, kind="increments")
     >>> sig.t.shape, sig.dtheta[0]                   # 0.5 rad/s for 0.1 s about z
     ((10,), array([0.  , 0.  , 0.05]))
     """
@@ -434,11 +439,11 @@ def simulate_imu(motion: BaseMotion, rate: float, duration: float | None = None,
     check_memory(8 * 7 * (n + 1) * (1 + k) + 64e6, f"simulating {n:,} samples",
                  "the command line (imunav simulate) streams any length to a file")
     if imu is None:
-        chunks = ideal_chunks(motion, rate, duration, output=output, g=g, t0=t0)
+        chunks = ideal_chunks(motion, rate, duration, kind=kind, g=g, t0=t0)
     else:
-        chunks = measured_chunks(motion, imu, rate, duration, output=output, g=g, t0=t0,
+        chunks = measured_chunks(motion, imu, rate, duration, kind=kind, g=g, t0=t0,
                                  seed=seed)
     parts = list(chunks)
     t, gyro, accel = (np.concatenate([p[i] for p in parts]) for i in range(3))
-    return ImuSignals(t, gyro, accel, output, float(rate), g,
+    return ImuSignals(t, gyro, accel, kind, float(rate), g,
                       meta={"motion": motion.name, "t0": float(t0)})

@@ -1,10 +1,17 @@
 """The initial state from what a log gives: levelled at rest, and heading from GNSS once moving.
 
+General strapdown practice first, the coarse levelling at rest: roll and pitch from gravity
+(:func:`level_attitude`, :func:`gravity_reading`) and the static bias removal
+(:func:`remove_static_biases`) — Dickson & Rae 2021 use both steps in their processing chain
+(:mod:`imunav.papers.dickson_rae2021` calls these), and so do the readers of real recordings
+when no initial state is given. (These were ``imunav.strapdown.alignment`` until 0.3, a name
+that :mod:`imunav.estimation.alignment` also had; the old path still imports, with a warning.)
+
 A real log comes without a truth file. What it does give:
 
 - **a still start** (a foot before the first step, a car before it drives off): the mean
   specific force of those seconds is gravity, so roll and pitch follow
-  (:func:`~imunav.strapdown.alignment.level_attitude`); the gyro's mean over them is its bias
+  (:func:`level_attitude`); the gyro's mean over them is its bias
   (plus the Earth's rate, ≤ 15 °/h, which the flat frame does not model anyway). The heading
   is unobservable at rest without a magnetometer: 0, and the position 0 — the frame of a
   foot-mounted walk (:func:`static_alignment`);
@@ -19,8 +26,7 @@ A real log comes without a truth file. What it does give:
 Both check what they assume and say so (``warnings.warn``, one line) when a log disagrees:
 a start that is not still, GNSS headings that scatter.
 
-May import: ``imunav.core``, ``imunav.sensors.signals``, ``imunav.strapdown.alignment``,
-``imunav.strapdown.scan``.
+May import: ``imunav.core``, ``imunav.sensors.signals``, ``imunav.strapdown.scan``.
 """
 
 from __future__ import annotations
@@ -32,16 +38,52 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
-from imunav.core.constants import DEG
-from imunav.core.kernels import FloatArray, axis_quat, cross, quat_mul, quat_rotate
-from imunav.core.rotations import quat_to_euler
-from imunav.core.validation import ImunavError, as_float_array, check_positive
+from imunav.core.constants import DEG, G0
+from imunav.core.kernels import FloatArray, axis_quat, cross, quat_conj, quat_mul, quat_rotate
+from imunav.core.rotations import euler_to_quat, quat_to_euler
+from imunav.core.validation import ImunavError, as_float_array, check_gravity, check_positive
 from imunav.sensors.signals import ImuSignals
-from imunav.strapdown.alignment import level_attitude
 from imunav.strapdown.scan import exp_product
 
 __all__ = ["STILL_GRAVITY", "STILL_RATE", "STILL_TILT", "InitialState", "gnss_alignment",
-           "static_alignment"]
+           "gravity_reading", "level_attitude", "remove_static_biases", "static_alignment"]
+
+
+def level_attitude(accel: npt.ArrayLike, g: float = G0, tol: float = 0.05,
+                   yaw: float = 0.0) -> FloatArray:
+    """``q_nb`` from the mean resting specific force (m/s²): roll and pitch from gravity, yaw given.
+
+    Level at rest the accelerometer reads ``[0, 0, −g]``, so θ = atan2(f_x, √(f_y² + f_z²)) and
+    φ = atan2(−f_y, −f_z). Raises if |f| differs from g by more than ``tol`` (relative): the
+    accelerometer is then not measuring gravity alone (the body is not at rest).
+    """
+    f = as_float_array(accel, "accel", last=3)
+    g = check_gravity(g)
+    f = f.reshape(-1, 3).mean(axis=0)
+    n = float(np.linalg.norm(f))
+    if abs(n - g) > tol * g:
+        raise ImunavError(f"accel at rest has |a| = {n:.4g} m/s², not ≈ g = {g:.4g} "
+                          f"(tolerance {tol:.0%}): cannot take the initial orientation from it")
+    theta = np.arctan2(f[0], np.hypot(f[1], f[2]))
+    phi = np.arctan2(-f[1], -f[2])
+    return euler_to_quat([yaw, theta, phi])
+
+
+def gravity_reading(q: npt.ArrayLike, g: float = G0) -> FloatArray:
+    """What an ideal accelerometer at rest reads at attitude ``q_nb``: ``C_bn (−g_n)``."""
+    q = as_float_array(q, "q", last=4)
+    return quat_rotate(quat_conj(q), np.array([0.0, 0.0, -g]))
+
+
+def remove_static_biases(gyro: FloatArray, accel: FloatArray, window: slice, q0: FloatArray,
+                         g: float = G0) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """Subtract the offsets measured over a stationary ``window`` at attitude ``q0``: the gyro's
+    mean, and the accelerometer's mean minus the gravity reading :func:`gravity_reading`.
+    Returns ``(gyro, accel, gyro_bias, accel_bias)``."""
+    bg = gyro[window].mean(axis=0)
+    ba = accel[window].mean(axis=0) - gravity_reading(q0, g)
+    return gyro - bg, accel - ba, bg, ba
+
 
 #: A still start: the level attitude of each quarter of the window within this of the whole
 #: window's (rad; 1°)…

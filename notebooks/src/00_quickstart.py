@@ -102,7 +102,7 @@ print(f"rolled {roll_deg}°:", simulate_imu(Motion(roll=f"{roll_deg}*pi/180"), 1
 # sixth-order Magnus step (registry id `poly8_m6`; notebook 06 explains the family).
 
 # %%
-sig = simulate_imu(motion, rate=100.0, output="increments")
+sig = simulate_imu(motion, rate=100.0, kind="increments")
 t0 = np.array([0.0])
 nav = navigate(sig, motion.attitude(t0)[0], motion.velocity(t0)[0], motion.position(t0)[0])
 err = nav_errors(nav, motion)
@@ -114,7 +114,7 @@ print("(\"<\" marks the rounding floor: the ideal signals are integrated back es
       "exactly)")
 
 # %% tags=["hide-input"]
-res = rt.round_trip(motion, rate=100.0, output="increments")
+res = rt.round_trip(motion, rate=100.0, kind="increments")
 plotting.plot_run(res)
 plt.show()
 
@@ -225,7 +225,7 @@ choices = {f"{name(f'{k}/{n}')}": f"{k}/{n}" for k, table in imunav.ALGORITHMS.i
 def explore(rate=30.0, algorithm="rates/magnus4"):
     kind, alg = algorithm.split("/")
     fig, axs = plotting.figure(1, 2, height=2.8)
-    e = rt.round_trip(motion, rate=rate, output=kind, algorithm=alg).errors
+    e = rt.round_trip(motion, rate=rate, kind=kind, algorithm=alg).errors
     axs[0].semilogy(e.t[1:], np.maximum(e.position[1:], 1e-16), **styled(algorithm))
     axs[0].set(xlabel="t (s)", ylabel="position error (m)")
     axs[1].semilogy(e.t[1:], np.maximum(np.degrees(e.attitude[1:]), 1e-16), **styled(algorithm))

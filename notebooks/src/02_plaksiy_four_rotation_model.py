@@ -68,7 +68,7 @@ from ipywidgets import Dropdown, FloatSlider, interact
 
 from imunav.papers import plaksiy as P
 from imunav.papers import records as R
-from imunav.plotting import figure, style, use_book_style
+from imunav.plotting import figure, thing_style, use_book_style
 from imunav.symbolic import plaksiy as S
 
 use_book_style()
@@ -437,7 +437,7 @@ for a, r in sweep.items():
 fig_, axs = figure(2, 2, height=4.6, sharex=True, sharey=True)
 for ax, (a, r) in zip(axs.flat, sweep.items(), strict=True):
     for f, x in r.items():
-        ax.semilogy(x.t[1:], x.drift[1:], label=P.FORM_NAMES[f], **style(f))
+        ax.semilogy(x.t[1:], x.drift[1:], label=P.FORM_NAMES[f], **thing_style(f))
     ax.set_title(f"α = {a:.3g}, β = {90 / 80 - a:.3g}")
 for ax in axs[-1]:
     ax.set_xlabel("t (s)")
@@ -455,7 +455,7 @@ def explore(k1=0.15, k2=1.55, k3=0.35, k4=-1.55, dt=0.1, alpha=33 / 80, beta=57 
     m = P.FourRotationMotion(k=(k1, k2, k3, k4))
     r = P.drift(m, 200.0, dt, alpha, beta, form)
     fig, ax = figure(1, 1, height=3.0)
-    ax.plot(r.t, r.drift, **style(form))
+    ax.plot(r.t, r.drift, **thing_style(form))
     ax.set(xlabel="t (s)", ylabel="drift (rad)",
            title=f"k = ({k1:g}, {k2:g}, {k3:g}, {k4:g}), α = {alpha:.4g}, β = {beta:.4g}, "
                  f"{P.FORM_NAMES[form]}: final {r.final:.3e} rad")

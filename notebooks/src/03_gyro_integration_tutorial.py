@@ -52,7 +52,7 @@ from ipywidgets import Dropdown, FloatLogSlider, FloatSlider, interact
 from imunav.core.rotations import quat_angle
 from imunav.papers import records as R
 from imunav.papers import tutorial as T
-from imunav.plotting import figure, style, use_book_style
+from imunav.plotting import figure, thing_style, use_book_style
 
 use_book_style()
 SEED = 0  # nothing here is random
@@ -165,7 +165,7 @@ verdict("tutorial.final_angle_error_first_order_deg", "tutorial.update_order_in_
 
 # %% tags=["hide-input"]
 fig, axs = figure(1, 2, height=3.0)
-axs[0].plot(res.t, np.degrees(err), color=style("increments/first_order")["color"])
+axs[0].plot(res.t, np.degrees(err), color=thing_style("increments/first_order")["color"])
 axs[0].set(xlabel="t (s)", ylabel="angle to the true attitude (°)",
            title="first-order + normalise, dt = 0.5 s")
 T.plot_error_vs_dt(dts, errs, order, axs[1])
@@ -359,7 +359,7 @@ for w, a in at_switch.items():
 # %% tags=["hide-input"]
 fig, axs = figure(2, 2, height=4.4, sharex=True)
 for ax, (w, (t, e)) in zip(axs.flat, sweep.items(), strict=True):
-    ax.plot(t, np.degrees(e), color=style("increments/first_order")["color"])
+    ax.plot(t, np.degrees(e), color=thing_style("increments/first_order")["color"])
     ax.set_title(f"ω about X = π/{np.pi / w:.0f} rad/s")
 for ax in axs[-1]:
     ax.set_xlabel("t (s)")
@@ -384,7 +384,7 @@ def explore(dt=0.5, rate_x=np.pi / 8, rate_y=np.pi / 16, update="first_order"):
     fig = plt.figure(figsize=(6.5, 3.2), layout="constrained")
     T.plot_run(r, fig.add_subplot(1, 2, 1, projection="3d"), T.UPDATE_NAMES[update])
     ax = fig.add_subplot(1, 2, 2)
-    ax.plot(r.t, np.degrees(e), color=style("increments/first_order")["color"])
+    ax.plot(r.t, np.degrees(e), color=thing_style("increments/first_order")["color"])
     ax.set(xlabel="t (s)", ylabel="first-order error (°)", title=f"dt = {dt:.3g} s")
     plt.show()
 

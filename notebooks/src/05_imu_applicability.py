@@ -40,14 +40,13 @@ from ipywidgets import Dropdown, FloatLogSlider, GridBox, Layout, VBox, interact
 from imunav import (
     Motion,
     assess,
-    assess_covariance,
     covariance,
     design,
     format_design,
     format_verdict,
     monte_carlo,
 )
-from imunav.analysis.assessment import min_sample_rate, verdict_covariance
+from imunav.analysis.assessment import assess_covariance, min_sample_rate, verdict_covariance
 from imunav.analysis.covariance import CovarianceResult
 from imunav.papers.marusenkova2020 import motion_for
 from imunav.plotting import (

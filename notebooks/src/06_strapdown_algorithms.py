@@ -141,7 +141,7 @@ def coning_sculling(dtheta, dv, h, q0, v0, p0, g=9.80665):
 
 
 cone = B.coning(5.0, 2.0, duration=60.0)
-sig = simulate_imu(cone, 100.0, output="increments")
+sig = simulate_imu(cone, 100.0, kind="increments")
 q0, v0, p0 = initial_state(cone, sig)
 Q, V, P = coning_sculling(sig.dtheta, sig.dv, sig.dt, q0, v0, p0)
 lib = navigate(sig, q0, v0, p0, algorithm="coning2")

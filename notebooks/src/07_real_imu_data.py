@@ -35,7 +35,7 @@ from imunav.earth import OMEGA_E as OMEGA_EARTH
 from imunav.earth import normal_gravity
 from imunav.plotting import figure, name, styled, use_book_style
 from imunav.sensors.signals import ImuSignals
-from imunav.strapdown.alignment import level_attitude
+from imunav.strapdown.initial import level_attitude
 
 use_book_style()
 SEED = 0

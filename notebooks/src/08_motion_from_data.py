@@ -234,7 +234,7 @@ for m in (walk, recorded, raw):
     p95[m.name] = r["final_p95_position_m"]
     print(format_verdict(r).splitlines()[0])
     print(format_verdict(r).splitlines()[1], f"final 95th pct {r['final_p95_position_m']:.3f} m\n")
-sig = simulate_imu(recorded, 100.0, output="increments")
+sig = simulate_imu(recorded, 100.0, kind="increments")
 print(f"simulated: {len(sig)} increment samples at {sig.rate:g} Hz over {sig.t[-1]:.2f} s")
 peak_f = {m.name: float(np.linalg.norm(m.specific_force(interior), axis=1).max())
           for m in (walk, recorded, raw)}
