@@ -66,7 +66,7 @@ def test_batch_filter_agrees_with_the_filter_run_by_run(drive):
                                               "velocity_sigma": 0.1, "outages": [[6, 9]]},
                                      "nhc": {"sigma": 0.1, "rate": 5}})
     dur = 12.0
-    ideal = simulate_imu(drive, RATE, dur, output="increments")
+    ideal = simulate_imu(drive, RATE, dur, kind="increments")
     seeds = np.random.SeedSequence(1).spawn(2)
     sigs, datas = [], []
     for r in range(2):

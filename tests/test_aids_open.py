@@ -64,7 +64,7 @@ def test_a_users_wheel_speed_alone_halves_the_velocity_error(drive):
     velocity error less than half the unaided run's."""
     imu = ImuModel.load("BMI088")
     rate, dur = 100.0, 120.0
-    sig = simulate_imu(drive, rate, dur, output="increments", imu=imu, seed=7)
+    sig = simulate_imu(drive, rate, dur, kind="increments", imu=imu, seed=7)
     st = drive.states(np.array([0.0]))
     x0 = (st.quaternion[0], st.velocity[0], st.position[0])
     t = reading_times(10.0, dur)
@@ -85,7 +85,7 @@ def test_a_users_measurement_runs_through_smoother_covariance_and_monte_carlo(dr
                                             "outages": [[30, 45]]}})
     t = reading_times(5.0, dur)
     aid = _wheels(drive, t, 0.05, np.random.default_rng(2))
-    sig = simulate_imu(drive, rate, dur, output="increments", imu=imu, seed=3)
+    sig = simulate_imu(drive, rate, dur, kind="increments", imu=imu, seed=3)
     data = simulate_aiding(drive, gnss, dur, seed=3, imu_rate=rate)
     st = drive.states(np.array([0.0]))
     x0 = (st.quaternion[0], st.velocity[0], st.position[0])
@@ -128,7 +128,7 @@ def test_the_odometer_shortens_the_along_track_drift_of_an_outage(drive):
         return float(np.sqrt(u @ P @ u))
 
     assert along(odo) < 0.5 * along(base)
-    sig = simulate_imu(drive, rate, 300.0, output="increments", imu=imu, seed=5)
+    sig = simulate_imu(drive, rate, 300.0, kind="increments", imu=imu, seed=5)
     st = drive.states(np.array([0.0]))
     errs = []
     for cfg in (base, odo):

@@ -428,7 +428,7 @@ def test_zupt_bounds_the_drift_of_a_still_imu(detector):
     imu = ImuModel.from_dict({"gyro": {"noise_density": "0.1 deg/sqrt(h)"},
                               "accel": {"noise_density": "0.05 m/s/sqrt(h)", "bias": "5 mg"}})
     rate = 50.0
-    sig = simulate_imu(motion, rate, 12.0, output="rates", imu=imu, seed=2)
+    sig = simulate_imu(motion, rate, 12.0, kind="rates", imu=imu, seed=2)
     cfg = AidingConfig.from_dict({"zupt": {"sigma": 0.01, "detector": detector,
                                            "threshold": 1e6}})
     data = simulate_aiding(motion, cfg, 12.0, seed=2, imu_rate=rate)

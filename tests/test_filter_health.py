@@ -30,7 +30,7 @@ def _run(drive, seed, **kw):
     m, dur = drive
     imu = ImuModel.load("BMI088")
     cfg = AidingConfig.from_dict(CASE)
-    sig = simulate_imu(m, 100.0, dur, output="increments", imu=imu, seed=seed)
+    sig = simulate_imu(m, 100.0, dur, kind="increments", imu=imu, seed=seed)
     data = simulate_aiding(m, cfg, dur, seed=seed, imu_rate=100.0)
     st = m.states(np.array([0.0]))
     res = run_filter(sig, st.quaternion[0], st.velocity[0], st.position[0], cfg, data, imu=imu,
@@ -67,7 +67,7 @@ def test_readings_in_the_wrong_frame_are_filtered_with_a_warning(drive):
     m, dur = drive
     cfg = AidingConfig.from_dict(CASE)
     imu = ImuModel.load("BMI088")
-    sig = simulate_imu(m, 100.0, dur, output="increments", imu=imu, seed=1)
+    sig = simulate_imu(m, 100.0, dur, kind="increments", imu=imu, seed=1)
     data = simulate_aiding(m, cfg, dur, seed=1, imu_rate=100.0)
     g = data.gnss
     data.gnss = Readings(g.t, g.values[:, [1, 0, 2]] * [1.0, 1.0, -1.0])
@@ -129,7 +129,7 @@ def _walk_log(tmp_path, seconds=40.0):
     from imunav.motion.foot import foot_walk
 
     m = foot_walk(seconds)
-    sig = simulate_imu(m, 200.0, seconds, output="rates", imu=ImuModel.load("ADIS16470"), seed=4)
+    sig = simulate_imu(m, 200.0, seconds, kind="rates", imu=ImuModel.load("ADIS16470"), seed=4)
     path = tmp_path / "walk.csv"
     cols = np.column_stack([sig.t * 1000.0, np.degrees(sig.gyro), sig.accel / 9.80665])
     header = "Time (ms),Gyro X (deg/s),Gyro Y (deg/s),Gyro Z (deg/s),Acc X (g),Acc Y (g),Acc Z (g)"

@@ -70,7 +70,7 @@ def side_by_side(seconds: float, rate: float = 100.0, seed: int = 5, first: floa
     from pyins import filters, inertial_sensor, measurements, util
 
     motion = EarthMotion(drive(seconds), ORIGIN)
-    sig = simulate_imu(motion, rate, seconds, output="increments", imu=IMU, seed=seed)
+    sig = simulate_imu(motion, rate, seconds, kind="increments", imu=IMU, seed=seed)
     cfg = AidingConfig.from_dict({"gnss": {"rate": 1, "position_sigma": GNSS_SIGMA},
                                   "initial": INITIAL})
     data = simulate_aiding(motion, cfg, seconds, seed=seed)
