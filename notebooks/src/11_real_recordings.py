@@ -35,7 +35,7 @@ from IPython.display import Markdown, display
 
 from imunav.analysis.recordings import aligned_track, armse2d, outage_errors, outage_schedule
 from imunav.estimation.logs import filter_log
-from imunav.plotting import figure, style, use_book_style
+from imunav.plotting import figure, thing_style, use_book_style
 from imunav.sensors.aids import AidingConfig
 from imunav.sensors.models import ImuModel
 
@@ -106,7 +106,7 @@ else:
 if HAVE:
     fig, ax = figure(width=6.5, height=4.2)
     lat, lon = np.degrees(sol.llh[:, 0]), np.degrees(sol.llh[:, 1])
-    ax.plot(lon, lat, **style("truth", lw=1.0), label="RTK solution (the truth)")
+    ax.plot(lon, lat, **thing_style("truth", lw=1.0), label="RTK solution (the truth)")
     for i, (a, b) in enumerate(outs):
         k = (t_fix >= a) & (t_fix <= b)
         ax.plot(lon[k], lat[k], color="0.55", lw=4, alpha=0.6, solid_capstyle="round",
@@ -133,9 +133,9 @@ if HAVE:
             first = i == 0
             ax.fill_between(fwd["t"][k], -2 * fwd["sd"][k, j], 2 * fwd["sd"][k, j],
                             color="0.85", label="filter's ±2σ" if first else None)
-            ax.plot(fwd["t"][k], fwd["error"][k, j], **style("filter", lw=1.2),
+            ax.plot(fwd["t"][k], fwd["error"][k, j], **thing_style("filter", lw=1.2),
                     label="filter" if first else None)
-            ax.plot(smo["t"][k], smo["error"][k, j], **style("smoother", lw=1.2),
+            ax.plot(smo["t"][k], smo["error"][k, j], **thing_style("smoother", lw=1.2),
                     label="smoother" if first else None)
         ax.set(ylabel=f"{comp} error (m)")
     axs[1].set(xlabel="time from the first GNSS epoch (s)")
@@ -210,8 +210,8 @@ if HAVE:
         est = lr.result.states.position
         walk_errors[nm] = armse2d(est, gt)
         e, g = aligned_track(est, gt)
-        ax.plot(g[:, 0], g[:, 1], **style("truth", lw=1.0), label="Vicon")
-        ax.plot(e[:, 0], e[:, 1], **style("filter", lw=1.0), label="imunav")
+        ax.plot(g[:, 0], g[:, 1], **thing_style("truth", lw=1.0), label="Vicon")
+        ax.plot(e[:, 0], e[:, 1], **thing_style("filter", lw=1.0), label="imunav")
         ax.set(title=f"{nm[:10]} {nm[11:]}", xlabel="x (m)")
         ax.set_aspect("equal", adjustable="datalim")
     axs[0].set(ylabel="y (m)")
