@@ -287,9 +287,11 @@ def build_parser() -> argparse.ArgumentParser:
     a.add_argument("--imu", required=True, metavar="PRESET|IMU.toml")
     a.add_argument("--rate", required=True, type=_positive("--rate"), metavar="HZ")
     a.add_argument("--tolerance", required=True, type=_positive("--tolerance"), metavar="POS_M")
-    a.add_argument("--method", choices=("covariance", "montecarlo"),
+    a.add_argument("--method", choices=("covariance", "montecarlo", "auto"),
                    help="covariance (linear covariance analysis: fast, the default without "
-                        "--runs) or montecarlo (the default when --runs is given)")
+                        "--runs), montecarlo (the default when --runs is given), or auto (the "
+                        "covariance, and a Monte Carlo of --runs (default 200) when the "
+                        "covariance's own linearisation check fails)")
     a.add_argument("--runs", type=_integer("--runs", 1), metavar="N",
                    help="Monte Carlo runs (--method montecarlo)")
     a.add_argument("--seed", type=_integer("--seed", 0), help="Monte Carlo seed (default 0)")

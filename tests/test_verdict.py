@@ -441,3 +441,24 @@ def test_python_assess_offers_both_methods_as_the_command_line():
         A.assess(m, model, 20.0, tolerance=1.0, method="montecarlo")
     with pytest.raises(ImunavError, match="^method must be one of covariance, montecarlo"):
         A.assess(m, model, 20.0, tolerance=1.0, method="exact")
+
+
+def test_no_suitable_from_a_covariance_outside_its_linear_range():
+    """issue 37: a gyro bias of 2 °/s on a 60 s still motion turns the attitude by radians; the
+    covariance's own check (p95 attitude beyond LINEAR_LIMIT) fails, so its verdict is not
+    SUITABLE whatever its numbers say, and method="auto" answers with a Monte Carlo."""
+    from imunav import Motion, assess
+    from imunav.analysis.covariance import LINEAR_LIMIT
+    from imunav.sensors.models import ImuModel
+
+    m = Motion(duration=60.0)
+    imu = ImuModel.from_dict({"gyro": {"bias": "2 deg/s"}})
+    r = assess(m, imu, 20.0, tolerance=1e9, progress=False)
+    assert r["max_p95_attitude_rad"] > LINEAR_LIMIT and not r["linear"]
+    assert r["suitable"] is False and r["outside_linearisation"]
+    a = assess(m, imu, 20.0, 10, tolerance=1e9, method="auto", progress=False)
+    assert a["method_chosen"] == "montecarlo" and a["runs"] == 10
+    assert "linear range" in a["warnings"][0]
+    ok = assess(m, ImuModel.from_dict({"gyro": {"bias": "0.01 deg/s"}}), 20.0, tolerance=1e9,
+                method="auto", progress=False)
+    assert ok["method_chosen"] == "covariance" and ok["linear"] and ok["suitable"]

@@ -17,6 +17,7 @@ from scipy.stats import beta
 from imunav.analysis.aided_assessment import assess_aided
 from imunav.analysis.covariance import (
     ENVELOPE_POINTS,
+    LINEAR_LIMIT,
     CovarianceResult,
     CovarianceSummary,
     covariance_summary,
@@ -344,6 +345,13 @@ def assess_covariance(motion: BaseMotion, imu: ImuModel, rate: float, tolerance:
     r = verdict_covariance(cov, tolerance, min_sample_rate(motion, tolerance, duration, kind),
                            motion=motion.name, imu=imu.name)
     r["warnings"] += imu.missing_term_warnings()      # issue 38: no bias instability, say so
+    att = float(cov.attitude_quantile(index=-1)) if cov.terms else 0.0
+    r["max_p95_attitude_rad"] = att
+    r["linear"] = bool(att <= LINEAR_LIMIT)
+    if not r["linear"]:
+        # beyond its own linearisation the covariance has no word on the verdict (issue 37)
+        r["suitable"] = False
+        r["outside_linearisation"] = True
     det = deterministic_error(motion, imu, rate, duration, kind,
                               peaks=(cov.max_rate, cov.max_force))
     r["deterministic_position_m"] = None if det is None else det[0]
@@ -378,7 +386,10 @@ def _say_alignment(r: dict, alignment: str, window: float) -> None:
 
 
 #: The methods of :func:`assess`.
-METHODS = ("covariance", "montecarlo")
+METHODS = ("covariance", "montecarlo", "auto")
+
+#: Runs of the Monte Carlo that ``method="auto"`` falls back to (when no ``runs`` is given).
+AUTO_RUNS = 200
 
 
 @renamed(model="imu", output="kind")
@@ -425,8 +436,11 @@ def assess(motion: BaseMotion, imu: ImuModel, rate: float, runs: int | None = No
         :func:`~imunav.analysis.montecarlo.monte_carlo`).
     progress : bool, default True
         Show a progress bar on long runs.
-    method : {"covariance", "montecarlo"}, optional
-        Default: Monte Carlo when ``runs`` is given, else linear covariance analysis
+    method : {"covariance", "montecarlo", "auto"}, optional
+        ``"auto"``: the covariance analysis, and the Monte Carlo (``runs``, default
+        :data:`AUTO_RUNS`) when its own linearisation check fails (the p95 attitude error
+        beyond :data:`~imunav.analysis.covariance.LINEAR_LIMIT`: the covariance then says NOT
+        SUITABLE on its own). Default: Monte Carlo when ``runs`` is given, else linear covariance analysis
         (:func:`assess_covariance`).
     vertical : {"free", "hold"}, default "free"
         On the WGS-84 Earth: hold the vertical channel at the true height (a perfect height
@@ -501,6 +515,21 @@ def assess(motion: BaseMotion, imu: ImuModel, rate: float, runs: int | None = No
         return assess_covariance(motion, imu, rate, tolerance, duration, kind,
                                  progress=progress, vertical=vertical, alignment=alignment,
                                  align_window=align_window)
+    if method == "auto":
+        r = assess_covariance(motion, imu, rate, tolerance, duration, kind, progress=progress,
+                              vertical=vertical, alignment=alignment, align_window=align_window)
+        if r["linear"]:
+            r["method_chosen"] = "covariance"
+            return r
+        why = (f"the covariance analysis's p95 attitude error, {r['max_p95_attitude_rad']:.3g} "
+               f"rad, is beyond its linear range ({LINEAR_LIMIT:g} rad)")
+        runs = runs or AUTO_RUNS
+        r = assess(motion, imu, rate, runs, tolerance, seed, duration, kind, budget_runs,
+                   scheduler, progress, "montecarlo", vertical, alignment=alignment,
+                   align_window=align_window)
+        r["method_chosen"] = "montecarlo"
+        r["warnings"].insert(0, f"{why}: the verdict is the Monte Carlo's ({runs} runs)")
+        return r
     if runs is None:
         raise ImunavError("runs is required for the Monte Carlo method (method 'montecarlo')",
                           argument="runs")
@@ -612,7 +641,13 @@ def format_verdict(r: dict) -> str:
                      f"{r['alignment']['window_s']:g} s before the motion (heading given).")
     ok = r.get("suitable", r["fraction_within_tolerance"] >= SUITABLE_FRACTION)
     need = f"(needed: {100 * SUITABLE_FRACTION:g} %)"
-    if cov and r.get("deterministic_exceeds"):
+    if cov and r.get("outside_linearisation"):
+        lines.append(f"  NOT SUITABLE on the covariance's word: its p95 attitude error, "
+                     f"{r['max_p95_attitude_rad']:.3g} rad, is beyond the linear model "
+                     f"({LINEAR_LIMIT:g} rad), where its P(position error ≤ "
+                     f"{r['tolerance_m']:g} m) ≥ {pct:.1f} % is not to be trusted: the verdict "
+                     "needs a Monte Carlo (--method montecarlo or auto).")
+    elif cov and r.get("deterministic_exceeds"):
         lines.append(f"  NOT SUITABLE: the filter and range alone, without noise, give "
                      f"{r['deterministic_position_m']:.3g} m of position error, beyond the "
                      f"{r['tolerance_m']:g} m tolerance (the noise alone: P(error ≤ "

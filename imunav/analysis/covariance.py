@@ -329,4 +329,5 @@ def _attitude_warning(res, any_terms: bool) -> None:
     if att > LINEAR_LIMIT:
         res.warnings.append(f"the 95th-percentile attitude error reaches {att:.2g} rad: beyond "
                             f"about {LINEAR_LIMIT} rad the small-angle error model is not "
-                            "reliable; use --method montecarlo")
+                            "reliable, and the covariance's verdict is not SUITABLE on its own "
+                            "word: use --method montecarlo (or auto)")
