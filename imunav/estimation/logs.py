@@ -364,8 +364,8 @@ def filter_log(signals: ImuSignals, aiding: AidingConfig, data: AidingData | Non
                      + ", ".join(f"{b / DEG:.3g}" for b in start.gyro_bias) + " °/s")
     gyro = sig.gyro - (0.0 if start.gyro_bias is None else
                        (start.gyro_bias if sig.kind == "rates" else start.gyro_bias / sig.rate))
-    i0 = k if sig.kind == "rates" else k
-    run = ImuSignals(sig.t[i0:], gyro[i0:], sig.accel[i0:], sig.kind, sig.rate, sig.g)
+    # from the start node on (node k is sample k of rates, the start of increment k)
+    run = ImuSignals(sig.t[k:], gyro[k:], sig.accel[k:], sig.kind, sig.rate, sig.g)
     t0 = float(run.state_times()[0])
     kept = AidingData()
     for name, r in data.items():
