@@ -3,7 +3,10 @@
 ``import imunav.assess`` (and the other former flat modules, and ``imunav.core.style``, now
 ``imunav.plotting.style``) still works: a meta-path finder
 builds a module of that name holding the public names of the modules that replaced it, and
-issues a :class:`DeprecationWarning` naming them. Remove this file in 0.3.
+issues a :class:`DeprecationWarning` naming them. Remove this file in 0.3. One old path is
+also a new public name: the function ``imunav.assess`` keeps its name when the old module
+``imunav.assess`` is imported (``import imunav.assess as m`` gives the function; the old module
+is ``sys.modules["imunav.assess"]``, or better :mod:`imunav.analysis.metrics`).
 
 Old *names* (a renamed function, argument or attribute) are the other half of the table: each
 is declared where it lived, through :mod:`imunav.core.deprecation` (``renamed``,
@@ -19,6 +22,7 @@ import importlib
 import importlib.abc
 import importlib.machinery
 import sys
+import types
 import warnings
 
 from imunav.core.deprecation import REMOVAL
@@ -82,7 +86,25 @@ class _Finder(importlib.abc.MetaPathFinder):
         return importlib.machinery.ModuleSpec(fullname, _Loader(*ALIASES[fullname]))
 
 
+class _Package(types.ModuleType):
+    """A package whose public names an old module path of the same name cannot shadow.
+
+    Importing a submodule binds it as an attribute of its package; ``import imunav.assess``
+    would replace the function ``imunav.assess`` by the deprecated module. Here the function
+    stays (``import imunav.assess as m`` still gives the module, from ``sys.modules``)."""
+
+    def __setattr__(self, name, value):
+        old = self.__dict__.get(name)
+        if (isinstance(value, types.ModuleType) and f"{self.__name__}.{name}" in ALIASES
+                and old is not None and not isinstance(old, types.ModuleType)):
+            return
+        super().__setattr__(name, value)
+
+
 def install() -> None:
     """Register the finder of the deprecated module names (once; ``import imunav`` calls it)."""
     if not any(isinstance(f, _Finder) for f in sys.meta_path):
         sys.meta_path.append(_Finder())
+    for name in {k.rpartition(".")[0] for k in ALIASES}:
+        if name in sys.modules and type(sys.modules[name]) is types.ModuleType:
+            sys.modules[name].__class__ = _Package

@@ -274,3 +274,16 @@ def test_the_scan_sees_planted_old_names(tmp_path):
                        "ok = simulate_imu(m, 10, kind='rates')\n"
                        "x = butter(2, 1.0, output='sos')\n")
     assert [u.split(":")[0] for u in _old_uses(planted)] == ["1", "2", "3", "4"]
+
+
+def test_an_old_module_path_does_not_shadow_the_new_function_of_its_name():
+    """``imunav.assess`` was a module and is now the verdict function: importing the old path
+    (as a suite that imports every alias does) must leave the function in place."""
+    import imunav
+    from imunav.analysis.assessment import assess
+
+    sys.modules.pop("imunav.assess", None)
+    with pytest.warns(DeprecationWarning):
+        old = importlib.import_module("imunav.assess")
+    assert imunav.assess is assess and callable(imunav.assess)
+    assert old.nav_errors is importlib.import_module("imunav.analysis.metrics").nav_errors
