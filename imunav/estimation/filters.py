@@ -424,7 +424,9 @@ class _Filter:
                 blocks = sysm.steps(traj.piece(lo * R, hi * R), L * h)
                 Phi_full = blocks.full()[0] if smooth else None
                 for i in range(hi - lo):
-                    P = predict_blocks(P, *blocks.step(slice(i * R, (i + 1) * R)))
+                    sl = slice(i * R, (i + 1) * R)
+                    P = predict_blocks(P, blocks.nav[sl], blocks.gamma[sl], blocks.decay,
+                                       blocks.Qnn[sl], blocks.Qnx[sl], blocks.Qxx)
                     steps.append((None if Phi_full is None else Phi_full[i * R:(i + 1) * R], P))
             s_decayed = st.s_hat[None] * sysm.decay(t_nodes[bounds[1:]] - t_nodes[a])[:, None]
             for j, (_, Pj) in enumerate(steps[:-1]):

@@ -150,6 +150,9 @@ def predict_blocks(P: FloatArray, nav: FloatArray, gamma: FloatArray, decay: Flo
     """``Φ P Φᵀ + Q_d`` for a whole covariance ``P`` (…, n + k, n + k), ``Φ`` as in
     :class:`StepBlocks` — one filter's step or a batch's (the blocks broadcast per row).
 
+    The same numbers as :func:`predict_split` of ``P``'s blocks, each block written straight
+    into the result (no second pass over the large ``k × k`` block of a batch).
+
     Parameters
     ----------
     P : ndarray, shape (..., n + k, n + k)
@@ -162,13 +165,21 @@ def predict_blocks(P: FloatArray, nav: FloatArray, gamma: FloatArray, decay: Flo
         Symmetric when ``P`` is (the navigation block symmetrised).
     """
     n = nav.shape[-1]
-    nn, nx, xx = predict_split(P[..., :n, :n], P[..., :n, n:], P[..., n:, n:], nav, gamma,
-                               decay, Qnn, Qnx, Qxx)
-    out = np.empty(np.broadcast_shapes(P.shape, nn.shape[:-2] + P.shape[-2:]))
-    out[..., :n, :n] = nn
-    out[..., :n, n:] = nx
-    out[..., n:, :n] = np.swapaxes(nx, -1, -2)
-    out[..., n:, n:] = xx
+    nn, nx, xx = P[..., :n, :n], P[..., :n, n:], P[..., n:, n:]
+    lead = np.broadcast_shapes(P.shape[:-2], nav.shape[:-2], gamma.shape[:-2], Qnn.shape[:-2],
+                               Qnx.shape[:-2], np.shape(decay)[:-1], np.shape(Qxx)[:-2])
+    out = np.empty(lead + P.shape[-2:])
+    Y = nav @ nn + gamma @ np.swapaxes(nx, -1, -2)
+    X = nav @ nx + gamma @ xx
+    o = Y @ np.swapaxes(nav, -1, -2) + X @ np.swapaxes(gamma, -1, -2)
+    out[..., :n, :n] = 0.5 * (o + np.swapaxes(o, -1, -2)) + Qnn
+    o_nx = out[..., :n, n:]
+    np.multiply(X, decay[..., None, :], out=o_nx)
+    o_nx += Qnx
+    out[..., n:, :n] = np.swapaxes(o_nx, -1, -2)
+    o_xx = out[..., n:, n:]
+    np.multiply(xx, decay[..., :, None] * decay[..., None, :], out=o_xx)
+    o_xx += Qxx
     return out
 
 
