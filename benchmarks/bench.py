@@ -631,7 +631,9 @@ def main(argv=None):
                             "results-aided-speed.json" if a.aided_speed_only else "results.json"))
     if a.aided_speed_only:
         wall0 = time.perf_counter()
-        print(f"load average at the start: {os.getloadavg()[0]:.2f}", flush=True)
+        load0 = os.getloadavg()
+        print(f"load average at the start: {load0[0]:.2f} {load0[1]:.2f} {load0[2]:.2f}",
+              flush=True)
         res = aided_speed_bench(first=a.aided_speed_seconds, runs=a.aided_mc_runs,
                                 rounds=a.aided_speed_rounds, mc_rounds=a.aided_mc_rounds)
         for k, (label, ok, target) in AIDED_SPEED.items():
@@ -639,6 +641,9 @@ def main(argv=None):
             print(f"  {label:<54s} {res[k]:8.3f}×   [{rng['min']:8.3f} – {rng['max']:8.3f}]  "
                   f"({'met' if ok(res[k]) else 'MISSED'} {target})")
         res["wall_seconds"] = time.perf_counter() - wall0
+        res["load_average"] = {"start": list(load0), "end": list(os.getloadavg())}
+        res["machine"] = {"cores": os.cpu_count(), "python": sys.version.split()[0],
+                          "numpy": np.__version__}
         print(f"load average at the end: {os.getloadavg()[0]:.2f}; wall time "
               f"{res['wall_seconds'] / 60:.1f} min")
         Path(a.out).write_text(json.dumps({"aided_speed": res}, indent=2, ensure_ascii=False)
