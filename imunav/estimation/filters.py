@@ -275,6 +275,7 @@ class _Filter:
         self.grace = [np.zeros(R, dtype=int) for _ in self.aids]
         self.broken = [np.zeros(R, dtype=int) for _ in self.aids]
         self.readmitted = [[[] for _ in range(R)] for _ in self.aids]
+        self.n_readmit = [np.zeros(R, dtype=int) for _ in self.aids]
         self.m_cov = step_length(covariance_step, self.h, algo.align)
         n = self.system.n
         q = np.empty((N + 1, R, 4))
@@ -319,8 +320,7 @@ class _Filter:
                   self.noise[ai][j][:, :, None] * np.eye(m.size))
             admit = None
             if self.recover and self.gate is not None:
-                lock = (self.streak[ai] >= self.recover) & (
-                    np.array([len(x) for x in self.readmitted[ai]]) < MAX_READMISSIONS)
+                lock = (self.streak[ai] >= self.recover) & (self.n_readmit[ai] < MAX_READMISSIONS)
                 admit = self.grace[ai] > 0
                 if lock.any():
                     P = P.copy()
@@ -329,6 +329,7 @@ class _Filter:
                         f = _inflation(P[r], H[r], Rr, z[r])
                         P[r] = f * P[r]
                         self.readmitted[ai][r].append((float(self.t_nodes[k] + dt), f))
+                        self.n_readmit[ai][r] += 1
                     admit = admit | lock
                     self.grace[ai][lock] = self.recover + 1
                 self.grace[ai] = np.maximum(self.grace[ai] - 1, 0)

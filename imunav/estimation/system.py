@@ -153,6 +153,7 @@ class AidedSystem:
         self.P0[DP, DP] = init.position_sigma ** 2 * np.eye(3)
         self._noisy = np.nonzero(self.Qc)[0]
         self._phi: dict[float, tuple] = {}
+        self._stacked: dict[bytes, list] = {}
 
     def state_names(self) -> list[str]:
         """The blocks of the error state, in order.
@@ -321,7 +322,13 @@ class AidedSystem:
             """At one ``s`` (N, 9, n); at an array of them (S, N, 9, n): the same numbers."""
             one = np.ndim(s) == 0
             sv = np.atleast_1d(np.asarray(s, dtype=float))
-            ps = [np.stack(p)[:, None, None, :] for p in zip(*map(phis, sv), strict=True)]
+            key = sv.tobytes()
+            ps = self._stacked.get(key)
+            if ps is None:                              # the same nodes every step of a length
+                if len(self._stacked) > 64:
+                    self._stacked.clear()
+                ps = self._stacked[key] = [np.stack(p)[:, None, None, :]
+                                           for p in zip(*map(phis, sv), strict=True)]
             p0, p1, p2 = ps[:3]
             sv = sv[:, None, None, None]
             out = np.zeros((sv.shape[0], N, NAV, self.n))
