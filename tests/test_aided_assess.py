@@ -163,6 +163,24 @@ def test_filter_monte_carlo_on_dask_is_the_local_run_bit_for_bit(drive):
     assert np.array_equal(d.position_error, loc.position_error)
 
 
+
+def test_aided_monte_carlo_on_two_worker_processes_is_the_serial_run_bit_for_bit(drive):
+    """Issue 39: ``workers=2`` spreads the fixed chunks over two local processes (a Dask
+    ``LocalCluster``); every run's numbers are those of the serial run, bit for bit — the
+    errors, the gate's rejections and the NEES."""
+    pytest.importorskip("dask.distributed")
+    imu = ImuModel.load("BMI088")
+    aiding = _aiding(outages=[[4, 6]])
+    kw = {"seed": 5, "times": np.array([5.0, 8.0]), "progress": False, "nees": True}
+    runs = MC.MC_CHUNK + 2                                     # two chunks: one per process
+    two = MC.aided_monte_carlo(drive, imu, aiding, 20.0, 8.0, runs, workers=2, **kw)
+    one = MC.aided_monte_carlo(drive, imu, aiding, 20.0, 8.0, runs, **kw)
+    assert two.runs == runs
+    assert np.array_equal(two.position_error, one.position_error)
+    assert two.rejected == one.rejected
+    for b in MC.BLOCKS:
+        assert np.array_equal(two.filter[b], one.filter[b])
+
 def test_common_scale_is_the_largest_imu_factor_within_the_tolerance(drive):
     at = A.aided_covariance(drive, ImuModel.load("BMI088"), _aiding(), RATE, 60.0)
     tol = 15.0

@@ -11,6 +11,7 @@ from scipy.linalg import expm
 
 from imunav import Motion
 from imunav.core.kernels import skew
+from imunav.core.validation import ImunavError
 from imunav.estimation import (
     DP,
     DV,
@@ -217,3 +218,41 @@ def test_update_refuses_bad_input(kw, msg):
     args.update(kw)
     with pytest.raises(ImunavError, match=msg):
         update(**args)
+
+
+@pytest.mark.parametrize("m", [1, 2, 3, 6])
+def test_batched_update_is_the_textbook_joseph_update(m):
+    """Issue 39: ``update_batch`` (its closed-form Cholesky up to three components, its
+    Joseph form as ``P + (U + Uᵀ)``) equals the gain ``P Hᵀ S⁻¹`` and Joseph's
+    ``(I − K H) P (I − K H)ᵀ + K R Kᵀ`` written out with numpy's inverse, to round-off; a
+    filter whose ``S`` is not positive definite keeps its state with ``robust``, and an
+    error names it without."""
+    from imunav.estimation.kalman import update_batch
+
+    rng = np.random.default_rng(m)
+    R_, n = 5, 8
+    A = rng.standard_normal((R_, n, n))
+    P = A @ np.swapaxes(A, 1, 2) + np.eye(n)
+    H = rng.standard_normal((R_, m, n))
+    Rm = np.diag(rng.uniform(0.5, 2.0, m))
+    x = rng.standard_normal((R_, n))
+    z = rng.standard_normal((R_, m))
+    u = update_batch(x, P, z, H, Rm)
+    for r in range(R_):
+        S = H[r] @ P[r] @ H[r].T + Rm
+        K = P[r] @ H[r].T @ np.linalg.inv(S)
+        IKH = np.eye(n) - K @ H[r]
+        nu = z[r] - H[r] @ x[r]
+        np.testing.assert_allclose(u.x[r], x[r] + K @ nu, rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(u.P[r], IKH @ P[r] @ IKH.T + K @ Rm @ K.T, rtol=1e-9,
+                                   atol=1e-11)
+        assert u.nis[r] == pytest.approx(nu @ np.linalg.solve(S, nu), rel=1e-10)
+    assert np.array_equal(u.P, np.swapaxes(u.P, 1, 2))           # exactly symmetric
+    Pbad = P.copy()
+    Pbad[2] = -10.0 * np.eye(n)                                  # S not positive definite
+    v = update_batch(x, Pbad, z, H, Rm, robust=True)
+    assert np.isnan(v.nis[2]) and not v.accepted[2]
+    assert np.array_equal(v.P[2], Pbad[2]) and np.array_equal(v.x[2], x[2])
+    np.testing.assert_allclose(v.P[[0, 1, 3, 4]], u.P[[0, 1, 3, 4]], rtol=1e-12)
+    with pytest.raises(ImunavError, match="not positive definite"):
+        update_batch(x, Pbad, z, H, Rm)

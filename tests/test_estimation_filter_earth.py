@@ -127,3 +127,22 @@ def test_build_measurements_unchanged_on_earth():
     cfg = AidingConfig.from_dict({"gnss": {"rate": 1, "position_sigma": 1.0},
                                   "baro": {"rate": 1, "sigma": 0.5}})
     assert set(build_measurements(cfg)) == {"gnss", "baro"}
+
+
+def test_earth_fast_rows_are_the_models_transition():
+    """Issue 39: the nav rows of Φ(s) the Earth filter's Gauss–Legendre nodes use (the flat
+    rows plus the gravity-gradient terms, their φ₂…φ₄ remembered) equal the rows of
+    ``EARTH.transition`` — the error model's own closed form — at every node."""
+    from imunav.core.layout import NAV
+    from imunav.estimation.error_model import EARTH, Trajectory
+    from imunav.estimation.system import AidedSystem
+
+    motion = EarthMotion(drive(20.0), (np.radians(50.0), np.radians(30.0), 200.0))
+    traj = Trajectory.of(motion, 10.0, 2.0)
+    assert traj.gradient is not None
+    sysm = AidedSystem(IMU_TERMS, [Baro(0.5, 0.01)], h=0.01, model=EARTH)
+    B = sysm.sensor_input(traj)
+    rows = sysm._flat_rows(traj, B)
+    for s in (0.0, 0.013, 0.1, 0.37):
+        want = EARTH.transition(traj, B, sysm.D, s)[:, :NAV]
+        np.testing.assert_allclose(rows(s), want, rtol=1e-14, atol=1e-15 * np.abs(want).max())

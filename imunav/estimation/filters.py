@@ -282,6 +282,7 @@ class _Filter:
         self.grace = [np.zeros(R, dtype=int) for _ in self.aids]
         self.broken = [np.zeros(R, dtype=int) for _ in self.aids]
         self.readmitted = [[[] for _ in range(R)] for _ in self.aids]
+        self.n_readmit = [np.zeros(R, dtype=int) for _ in self.aids]
         self.m_cov = step_length(covariance_step, self.h, algo.align)
         n = self.system.n
         q = np.empty((N + 1, R, 4))
@@ -327,8 +328,7 @@ class _Filter:
             admit = None
             gate = self.gate if m.gated else None
             if self.recover and gate is not None:
-                lock = (self.streak[ai] >= self.recover) & (
-                    np.array([len(x) for x in self.readmitted[ai]]) < MAX_READMISSIONS)
+                lock = (self.streak[ai] >= self.recover) & (self.n_readmit[ai] < MAX_READMISSIONS)
                 admit = self.grace[ai] > 0
                 if lock.any():
                     P = P.copy()
@@ -337,6 +337,7 @@ class _Filter:
                         f = _inflation(P[r], H[r], Rr, z[r])
                         P[r] = f * P[r]
                         self.readmitted[ai][r].append((float(self.t_nodes[k] + dt), f))
+                        self.n_readmit[ai][r] += 1
                     admit = admit | lock
                     self.grace[ai][lock] = self.recover + 1
                 self.grace[ai] = np.maximum(self.grace[ai] - 1, 0)
@@ -432,7 +433,9 @@ class _Filter:
                 blocks = sysm.steps(traj.piece(lo * R, hi * R), L * h)
                 Phi_full = blocks.full()[0] if smooth else None
                 for i in range(hi - lo):
-                    P = predict_blocks(P, *blocks.step(slice(i * R, (i + 1) * R)))
+                    sl = slice(i * R, (i + 1) * R)
+                    P = predict_blocks(P, blocks.nav[sl], blocks.gamma[sl], blocks.decay,
+                                       blocks.Qnn[sl], blocks.Qnx[sl], blocks.Qxx)
                     steps.append((None if Phi_full is None else Phi_full[i * R:(i + 1) * R], P))
             s_decayed = st.s_hat[None] * sysm.decay(t_nodes[bounds[1:]] - t_nodes[a])[:, None]
             for j, (_, Pj) in enumerate(steps[:-1]):

@@ -90,7 +90,10 @@ class EarthSide:
         r_e = np.einsum("...ij,...j->...i", C_ei, r_i)
         lat, lon, alt = ecef_to_geodetic(r_e)
         q_in = quat_mul(quat_ecef_to_inertial(t, self.t0), quat_ned_to_ecef(lat, lon))
-        v_rel = v_i - np.cross(np.array([0.0, 0.0, OMEGA_E]), r_i)
+        w_r = np.zeros(r_i.shape)                 # Ω × r for Ω = [0, 0, ω_ie] (np.cross's products)
+        w_r[..., 0] = -OMEGA_E * r_i[..., 1]
+        w_r[..., 1] = OMEGA_E * r_i[..., 0]
+        v_rel = v_i - w_r
         v_n = quat_rotate(quat_conj(q_in), v_rel)
         q_nb = quat_mul(quat_conj(q_in), q_ib)
         return q_nb, v_n, np.stack([lat, lon, alt], axis=-1)

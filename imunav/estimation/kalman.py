@@ -150,6 +150,9 @@ def predict_blocks(P: FloatArray, nav: FloatArray, gamma: FloatArray, decay: Flo
     """``Φ P Φᵀ + Q_d`` for a whole covariance ``P`` (…, n + k, n + k), ``Φ`` as in
     :class:`StepBlocks` — one filter's step or a batch's (the blocks broadcast per row).
 
+    The same numbers as :func:`predict_split` of ``P``'s blocks, each block written straight
+    into the result (no second pass over the large ``k × k`` block of a batch).
+
     Parameters
     ----------
     P : ndarray, shape (..., n + k, n + k)
@@ -162,13 +165,21 @@ def predict_blocks(P: FloatArray, nav: FloatArray, gamma: FloatArray, decay: Flo
         Symmetric when ``P`` is (the navigation block symmetrised).
     """
     n = nav.shape[-1]
-    nn, nx, xx = predict_split(P[..., :n, :n], P[..., :n, n:], P[..., n:, n:], nav, gamma,
-                               decay, Qnn, Qnx, Qxx)
-    out = np.empty(np.broadcast_shapes(P.shape, nn.shape[:-2] + P.shape[-2:]))
-    out[..., :n, :n] = nn
-    out[..., :n, n:] = nx
-    out[..., n:, :n] = np.swapaxes(nx, -1, -2)
-    out[..., n:, n:] = xx
+    nn, nx, xx = P[..., :n, :n], P[..., :n, n:], P[..., n:, n:]
+    lead = np.broadcast_shapes(P.shape[:-2], nav.shape[:-2], gamma.shape[:-2], Qnn.shape[:-2],
+                               Qnx.shape[:-2], np.shape(decay)[:-1], np.shape(Qxx)[:-2])
+    out = np.empty(lead + P.shape[-2:])
+    Y = nav @ nn + gamma @ np.swapaxes(nx, -1, -2)
+    X = nav @ nx + gamma @ xx
+    o = Y @ np.swapaxes(nav, -1, -2) + X @ np.swapaxes(gamma, -1, -2)
+    out[..., :n, :n] = 0.5 * (o + np.swapaxes(o, -1, -2)) + Qnn
+    o_nx = out[..., :n, n:]
+    np.multiply(X, decay[..., None, :], out=o_nx)
+    o_nx += Qnx
+    out[..., n:, :n] = np.swapaxes(o_nx, -1, -2)
+    o_xx = out[..., n:, n:]
+    np.multiply(xx, decay[..., :, None] * decay[..., None, :], out=o_xx)
+    o_xx += Qxx
     return out
 
 
@@ -312,15 +323,73 @@ class BatchUpdate:
     accepted: np.ndarray
 
 
+def _cholesky(S: FloatArray) -> tuple[FloatArray, np.ndarray]:
+    """The lower Cholesky factor of each ``S`` (…, m, m) and where it exists (…,): closed
+    forms for ``m ≤ 3`` (the aids' readings: one batched LAPACK call each costs more than the
+    arithmetic), LAPACK above — where a factor does not exist its rows are NaN."""
+    m = S.shape[-1]
+    if m > 3:
+        good = np.isfinite(S).all(axis=(-2, -1))
+        good[good] = np.all(np.linalg.eigvalsh(S[good]) > 0, axis=-1)
+        L = np.full(S.shape, np.nan)
+        if good.any():
+            L[good] = np.linalg.cholesky(S[good])
+        return L, good
+    L = np.zeros(S.shape)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        for j in range(m):
+            d = S[..., j, j] - np.einsum("...k,...k->...", L[..., j, :j], L[..., j, :j])
+            L[..., j, j] = np.sqrt(d)
+            for i in range(j + 1, m):
+                L[..., i, j] = (S[..., i, j] - np.einsum("...k,...k->...", L[..., i, :j],
+                                                         L[..., j, :j])) / L[..., j, j]
+    diag = np.diagonal(L, axis1=-2, axis2=-1)
+    return L, np.all(diag > 0, axis=-1) & np.isfinite(L).all(axis=(-2, -1))
+
+
+def _forward(L: FloatArray, B: FloatArray) -> FloatArray:
+    """``L⁻¹ B`` for lower-triangular ``L`` (…, m, m) and ``B`` (…, m, k)."""
+    m = L.shape[-1]
+    if m > 3:
+        return np.linalg.solve(L, B)
+    Y = np.empty(np.broadcast_shapes(L.shape[:-2], B.shape[:-2]) + B.shape[-2:])
+    for i in range(m):
+        r = B[..., i, :]
+        for k in range(i):
+            r = r - L[..., i, k, None] * Y[..., k, :]
+        Y[..., i, :] = r / L[..., i, i, None]
+    return Y
+
+
+def _backward(L: FloatArray, Y: FloatArray) -> FloatArray:
+    """``L⁻ᵀ Y`` for lower-triangular ``L`` (…, m, m) and ``Y`` (…, m, k)."""
+    m = L.shape[-1]
+    if m > 3:
+        return np.linalg.solve(np.swapaxes(L, -1, -2), Y)
+    Z = np.empty(Y.shape)
+    for i in reversed(range(m)):
+        r = Y[..., i, :]
+        for k in range(i + 1, m):
+            r = r - L[..., k, i, None] * Z[..., k, :]
+        Z[..., i, :] = r / L[..., i, i, None]
+    return Z
+
+
 def update_batch(x: FloatArray, P: FloatArray, z: FloatArray, H: FloatArray, R: FloatArray,
                  *, gate: float | None = None, admit: np.ndarray | None = None,
                  robust: bool = False) -> BatchUpdate:
     """One measurement update of ``R`` filters at once, each with its own gate.
 
+    The gain and the NIS through the Cholesky factor of ``S`` (closed forms for up to three
+    components), and Joseph's form as ``P + (U + Uᵀ)`` with ``U = K (½ S Kᵀ − H P)`` — the same
+    sum as :func:`joseph` (``−K H P − (K H P)ᵀ + K S Kᵀ``) in half the passes over ``P``,
+    exactly symmetric for the symmetric ``P`` a filter keeps.
+
     Parameters
     ----------
     x : ndarray, shape (R, n)
     P : ndarray, shape (R, n, n)
+        Symmetric.
     z : ndarray, shape (R, m)
         The measurement (an error-state filter: predicted minus measured, about ``x``).
     H : ndarray, shape (R, m, n) or (m, n)
@@ -344,31 +413,35 @@ def update_batch(x: FloatArray, P: FloatArray, z: FloatArray, H: FloatArray, R: 
     ImunavError
         If ``S`` is not positive definite (without ``robust``).
     """
-    if robust:
-        S0 = H @ P @ np.swapaxes(H, -1, -2) + R
-        S0 = 0.5 * (S0 + np.swapaxes(S0, -1, -2))
-        bad = ~np.all(np.linalg.eigvalsh(S0) > 0, axis=-1) | ~np.isfinite(S0).all(axis=(-2, -1))
-        if bad.any():
-            good = ~bad
-            out = BatchUpdate(x.copy(), P.copy(), np.full(z.shape, np.nan), S0,
-                              np.full(bad.shape, np.nan), np.zeros(bad.shape, dtype=bool))
-            if good.any():
-                Hg = H[good] if H.ndim == 3 else H
-                Rg = R[good] if R.ndim == 3 else R
-                u = update_batch(x[good], P[good], z[good], Hg, Rg, gate=gate,
-                                 admit=None if admit is None else admit[good])
-                out.x[good], out.P[good], out.innovation[good] = u.x, u.P, u.innovation
-                out.S[good], out.nis[good], out.accepted[good] = u.S, u.nis, u.accepted
-            return out
-    K, S, HP = gain(P, H, R)
+    HP = H @ P
+    S = HP @ np.swapaxes(H, -1, -2) + R
+    S = 0.5 * (S + np.swapaxes(S, -1, -2))
+    L, good = _cholesky(S)
+    if not good.all():
+        if not robust:
+            raise ImunavError("the innovation covariance H P Hᵀ + R is not positive definite "
+                              "(check R)")
+        out = BatchUpdate(x.copy(), P.copy(), np.full(z.shape, np.nan), S,
+                          np.full(good.shape, np.nan), np.zeros(good.shape, dtype=bool))
+        if good.any():
+            Hg = H[good] if H.ndim == 3 else H
+            Rg = R[good] if R.ndim == 3 else R
+            u = update_batch(x[good], P[good], z[good], Hg, Rg, gate=gate,
+                             admit=None if admit is None else admit[good])
+            out.x[good], out.P[good], out.innovation[good] = u.x, u.P, u.innovation
+            out.S[good], out.nis[good], out.accepted[good] = u.S, u.nis, u.accepted
+        return out
+    K = np.swapaxes(_backward(L, _forward(L, HP)), -1, -2)           # (S⁻¹ H P)ᵀ
     nu = z - np.einsum("...mn,...n->...m", H, x)
-    Sinv_nu = np.linalg.solve(S, nu[..., None])[..., 0]
-    nis = np.einsum("...m,...m->...", nu, Sinv_nu)
+    w = _forward(L, nu[..., None])[..., 0]
+    nis = np.einsum("...m,...m->...", w, w)
     ok = np.ones(nis.shape, dtype=bool) if gate is None else nis <= gate_quantile(gate, z.shape[-1])
     if admit is not None:
         ok = ok | admit
     xn = x + np.einsum("...nm,...m->...n", K, nu)
-    Pn = joseph(P, K, H, R, HP)
+    U = K @ (0.5 * (S @ np.swapaxes(K, -1, -2)) - HP)
+    Pn = U + np.swapaxes(U, -1, -2)
+    Pn += P
     if not ok.all():
         xn = np.where(ok[..., None], xn, x)
         Pn = np.where(ok[..., None, None], Pn, P)

@@ -18,17 +18,47 @@ May import: ``imunav.core``, ``imunav.sensors``, ``imunav.estimation``.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from imunav.core.kernels import FloatArray, skew
 from imunav.core.layout import DP, DV, NAV, PHI
 from imunav.estimation.discretisation import GAUSS_LEGENDRE, phi_functions
-from imunav.estimation.error_model import FLAT, TRIAD_ROWS, ErrorSource, FlatErrorModel, Trajectory, linearise
+from imunav.estimation.error_model import (
+    EARTH,
+    EARTH_HOLD,
+    FLAT,
+    TRIAD_ROWS,
+    ErrorSource,
+    FlatErrorModel,
+    Trajectory,
+    linearise,
+)
 from imunav.estimation.kalman import StepBlocks
 from imunav.sensors.aids import InitialConfig, Measurement
 from imunav.sensors.models import ImuModel
 
 __all__ = ["AidedSystem"]
+
+#: Above this many bytes the Gauss–Legendre nodes' rows of a batch are formed one node at a time
+#: (the same numbers: a cache-sized working set instead of one array of every node).
+NODE_BYTES = 1 << 21
+
+
+def _phi_234(d: FloatArray, h: float) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """``φ_i(d) = ∫₀ʰ (h−s)^i/i! e^{d s} ds`` for i = 2, 3, 4: the same arithmetic as the
+    Earth model's own (the series below |d h| = 0.5), for the rows of :meth:`AidedSystem.steps`
+    (``tests/test_estimation_filter_earth.py`` compares the two)."""
+    x = d * h
+    small = np.abs(x) < 0.5
+    xs = np.where(small, 1.0, x)
+    out = []
+    for i in (2, 3, 4):
+        ser = sum(x**k / math.factorial(k + i + 1) for k in range(18))
+        tail = np.expm1(xs) - sum(xs**k / math.factorial(k) for k in range(1, i + 1))
+        out.append(np.where(small, h ** (i + 1) * ser, h ** (i + 1) * tail / xs ** (i + 1)))
+    return out[0], out[1], out[2]
 
 
 class AidedSystem:
@@ -123,6 +153,7 @@ class AidedSystem:
         self.P0[DP, DP] = init.position_sigma ** 2 * np.eye(3)
         self._noisy = np.nonzero(self.Qc)[0]
         self._phi: dict[float, tuple] = {}
+        self._stacked: dict[bytes, list] = {}
 
     def state_names(self) -> list[str]:
         """The blocks of the error state, in order.
@@ -197,13 +228,16 @@ class AidedSystem:
         h = traj.h if h is None else float(h)
         B = self.sensor_input(traj)
         n, N, m = self.n, traj.steps, self.n - NAV
-        rows_at = self._flat_rows(traj, B) if self.model is FLAT else None
+        rows_at = (self._flat_rows(traj, B) if self.model is FLAT or
+                   (self.model in (EARTH, EARTH_HOLD) and traj.gradient is not None) else None)
         x, w = GAUSS_LEGENDRE
         xs, ws = (x + 1) / 2 * h, w / 2 * h
+        # every node's rows at once, and those at s = h: the rows of Φ (the same operations);
+        # node by node when they would not fit in a cache (a batch of many runs)
+        by_node = rows_at is not None and 7 * N * NAV * n * 8 > NODE_BYTES
         if rows_at is not None:
-            # every node's rows at once, and those at s = h: the rows of Φ (the same operations)
-            at = rows_at(np.append(xs, h))
-            r = at[-1]
+            at = rows_at(np.append(xs, h)) if not by_node else None
+            r = at[-1] if not by_node else rows_at(h)
             F, G = r[:, :, :NAV], r[:, :, NAV:]
             E = np.exp(self.D * h)
         else:
@@ -221,7 +255,16 @@ class AidedSystem:
             # Φ Qc Φᵀ are Φ_n Qc Φ_nᵀ, Γ diag(Qs e^{Ds}) and diag(Qs e^{2Ds}).
             q = Qc[nz]
             qs = Qc[NAV:]
-            if rows_at is not None:                             # every node at once
+            if by_node:                                         # the same sums, node by node
+                for i, wi in enumerate(ws):
+                    a = rows_at(xs[i])
+                    Pn = a[:, :, nz]
+                    Qnn += (wi * (Pn * q)) @ np.swapaxes(Pn, -1, -2)
+                    if n > NAV:
+                        e = np.exp(xs[i] * self.D)
+                        Qns += (wi * a[:, :, NAV:]) * (qs * e)
+                        qss += wi * qs * e * e
+            elif rows_at is not None:                           # every node at once
                 S = xs.size
                 Pn = at[:S, :, :, nz]
                 W = ws[:, None, None, None]
@@ -247,12 +290,21 @@ class AidedSystem:
         """``s → Φ(s)[:9]`` of the flat model, its products with ``B`` formed once: the rows of
         :func:`~imunav.estimation.discretisation.flat_transition` (``[I, 0, 0; F s, I, 0;
         F s²/2, I s, I]`` and ``Γ = B φ0 + A B φ1 + A² B φ2``), the φ-functions of each ``s``
-        remembered (``tests/test_estimation_filter.py`` checks it against the model's own)."""
+        remembered (``tests/test_estimation_filter.py`` checks it against the model's own). On
+        the Earth (``traj.gradient`` set) plus the first-order terms in the gravity gradient
+        ``Γ_g`` of :meth:`EarthErrorModel.transition
+        <imunav.estimation.error_model.EarthErrorModel.transition>` — its φ₂…φ₄ of each ``s``
+        remembered too — so that every Gauss–Legendre node is one array operation, not a
+        transition of its own."""
         F = skew(traj.f_n)
         N = F.shape[0]
         FB = F @ B[:, 0:3]                                      # A B rows δv, A² B rows δp
         Bv = B[:, 3:6]
         I3 = np.eye(3)
+        Gm = traj.gradient if self.model is not FLAT else None
+        if Gm is not None:
+            GF = Gm @ F
+            GBv, GFB = Gm @ Bv, Gm @ FB
 
         def phis(s):
             key = float(s)
@@ -260,15 +312,24 @@ class AidedSystem:
             if phi is None:
                 if len(self._phi) > 256:
                     self._phi.clear()
-                phi = self._phi[key] = phi_functions(self.D, key)
+                phi = phi_functions(self.D, key)
+                if Gm is not None:
+                    phi = phi + _phi_234(self.D, key)
+                phi = self._phi[key] = phi
             return phi
 
         def rows(s):
             """At one ``s`` (N, 9, n); at an array of them (S, N, 9, n): the same numbers."""
             one = np.ndim(s) == 0
             sv = np.atleast_1d(np.asarray(s, dtype=float))
-            p0, p1, p2 = (np.stack(p)[:, None, None, :] for p in zip(*map(phis, sv),
-                                                                      strict=True))
+            key = sv.tobytes()
+            ps = self._stacked.get(key)
+            if ps is None:                              # the same nodes every step of a length
+                if len(self._stacked) > 64:
+                    self._stacked.clear()
+                ps = self._stacked[key] = [np.stack(p)[:, None, None, :]
+                                           for p in zip(*map(phis, sv), strict=True)]
+            p0, p1, p2 = ps[:3]
             sv = sv[:, None, None, None]
             out = np.zeros((sv.shape[0], N, NAV, self.n))
             out[:, :, 0:3, 0:3] = I3
@@ -281,6 +342,17 @@ class AidedSystem:
             G += B * p0
             G[:, :, 3:6] += FB * p1
             G[:, :, 6:9] += Bv * p1 + FB * p2
+            if Gm is not None:                          # the terms in Γ_g (eq. of _with_gravity)
+                out[:, :, DV, PHI] += GF * (sv**3 / 6)
+                out[:, :, DV, DV] += Gm * (sv * sv / 2)
+                out[:, :, DV, DP] += Gm * sv
+                out[:, :, DP, PHI] += GF * (sv**4 / 24)
+                out[:, :, DP, DV] += Gm * (sv**3 / 6)
+                out[:, :, DP, DP] += Gm * (sv * sv / 2)
+                if self.D.size:
+                    q2, q3, q4 = ps[3:]
+                    G[:, :, DV] += GBv * q2 + GFB * q3
+                    G[:, :, DP] += GBv * q3 + GFB * q4
             return out[0] if one else out
 
         return rows
