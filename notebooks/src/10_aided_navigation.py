@@ -342,9 +342,11 @@ plt.show()
 # %% [markdown]
 # With $Q$ too small the filter trusts its integration: its $P$ shrinks, the real error does
 # not, and the NEES climbs far above the band; with $Q$ too large it is pessimistic and the
-# NEES sits below. A wrong $R$ acts at the fixes: too small and each fix is believed too much.
-# The NEES is how a filter is tuned against known truth — a simulation like this one — before
-# it meets data without truth, where only its innovations are left to check (§8).
+# NEES sits below. A wrong $R$ acts at the fixes: too small and each fix is believed too much
+# (the NEES jumps above the band at the first fix), too large and too little (below). The NEES
+# is how a filter is tuned against known truth — a simulation like this one — before it meets
+# data without truth, where only its innovations ($\nu$, against their covariance $S$) are
+# left to check.
 #
 # ## 4. imunav's error-state filter
 # imunav's filter is the cart's, in three dimensions. The strapdown of notebook 00 integrates
