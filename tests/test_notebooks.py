@@ -137,8 +137,8 @@ def test_drawing_only_code_is_folded_in_the_book(src):
 #: A visible cell may spend at most this many lines writing prose (a ``say(...)`` or
 #: ``Markdown(...)`` statement): more is a wall of f-strings before the text in the book.
 MAX_PROSE_LINES = 4
-#: Being rewritten by their owner (issue 38's notebooks 09–10): reported, not yet held.
-PROSE_PENDING = {"09_rotating_earth", "10_aided_navigation"}
+#: Notebooks whose prose cells are being rewritten: reported, not yet held (none left).
+PROSE_PENDING: set[str] = set()
 
 
 def prose_lines(source: str) -> int:

@@ -391,3 +391,54 @@ class AidedSystem:
         ndarray, shape (N, n − 9)
         """
         return np.exp(np.outer(dt, self.D))
+
+    @staticmethod
+    def reset_jacobian(x: FloatArray) -> FloatArray:
+        """``G``: how the error left after a feedback depends on the error before it.
+
+        The filter corrects its attitude by the estimated error, ``q ← exp(φ̂) ⊗ q``, and
+        restarts the error state at zero. With the attitude error defined by
+        ``C_est = (I − [φ×]) C`` (``q_est = exp(−φ) ⊗ q``), the error after the correction is
+        ``φ⁺`` with ``exp(−φ⁺) = exp(φ̂) exp(−φ)``; to first order in the estimation error
+        ``δ = φ − φ̂`` (Baker–Campbell–Hausdorff) ``φ⁺ = δ + ½ φ̂ × δ``. So the covariance the
+        filter carries on is ``G P Gᵀ`` with ``G = I`` but for ``G_φφ = I + ½ [φ̂×]``: the
+        velocity, position and sensor errors are corrected additively (their block is the
+        identity). Leaving ``G`` out is right to first order in ``φ̂`` only; a correction of
+        several degrees (a heading learnt once a car drives off) then leaves the attitude
+        covariance too small (issue 38; ``benchmarks/aided_consistency.py --causes``).
+
+        Parameters
+        ----------
+        x : ndarray, shape (..., n)
+            The corrections fed back (``φ̂`` first).
+
+        Returns
+        -------
+        ndarray, shape (..., n, n)
+        """
+        x = np.asarray(x, dtype=float)
+        G = np.broadcast_to(np.eye(x.shape[-1]), x.shape[:-1] + (x.shape[-1],) * 2).copy()
+        G[..., PHI, PHI] += 0.5 * skew(x[..., PHI])
+        return G
+
+    def reset(self, P: FloatArray, x: FloatArray) -> FloatArray:
+        """The covariance after feeding back ``x``: ``G P Gᵀ`` (:meth:`reset_jacobian`),
+        computed on the rows and columns of the attitude error only.
+
+        Parameters
+        ----------
+        P : ndarray, shape (..., n, n)
+            The covariance after the update.
+        x : ndarray, shape (..., n)
+            The corrections fed back.
+
+        Returns
+        -------
+        ndarray, shape (..., n, n)
+            Symmetric.
+        """
+        P = np.array(P, dtype=float)
+        A = np.eye(3) + 0.5 * skew(np.asarray(x, dtype=float)[..., PHI])      # (..., 3, 3)
+        P[..., PHI, :] = A @ P[..., PHI, :]
+        P[..., :, PHI] = P[..., :, PHI] @ np.swapaxes(A, -1, -2)
+        return 0.5 * (P + np.swapaxes(P, -1, -2))
