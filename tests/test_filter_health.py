@@ -40,16 +40,16 @@ def _run(drive, seed, **kw):
 
 
 def test_a_locked_out_filter_recovers_and_says_so(drive):
-    """Seed 4 diverges early (its yaw, unobservable while the car stands, is beyond the EKF's
+    """Seed 1 diverges early (its yaw, unobservable while the car stands, is beyond the EKF's
     linear range once it drives off): with the gate alone it rejects nearly every fix and ends
     kilometres off, silently before issue 37. With the recovery (the default) it re-admits a fix
     with the covariance inflated, ends within 5σ on every axis, and warns."""
-    locked, err0 = _run(drive, 4, recover=None)
+    locked, err0 = _run(drive, 1, recover=None)
     assert np.abs(err0).max() > 1e3
     h0 = locked.health.aids["gnss"]
     assert h0["gated_share"] > 0.5 and h0["readmitted"] == 0
     assert any("rejected" in w for w in locked.warnings)
-    res, err = _run(drive, 4)
+    res, err = _run(drive, 1)
     assert np.all(np.abs(err) <= 5 * res.sd[-1, :3]), (err, res.sd[-1, :3])
     assert res.health.aids["gnss"]["readmitted"] >= 1
     assert any("locked out" in w for w in res.warnings)

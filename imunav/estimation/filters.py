@@ -371,9 +371,11 @@ class _Filter:
         st.ep_idx.append(0)
         st.ep_prior.append(st.P[:, :NAV, :NAV].copy())
         x_hat = np.zeros((R, n))
+        P_fed = st.P                                 # the covariance before the reset
         if 0 in self.sched.at:                       # readings at the very start
-            x_hat, st.P = self.readings(0, st.P)
+            x_hat, P_fed = self.readings(0, st.P)
             self.feedback(0, x_hat)
+            st.P = sysm.reset(P_fed, x_hat)
         st.ep_post.append(st.P[:, :NAV, :NAV].copy())
         st.ep_est.append(st.s_hat.copy())
         segs = []
@@ -382,7 +384,9 @@ class _Filter:
         scale = h if kind == "increments" else 1.0
         a = 0
         for b in self.sched.epochs():
-            x_first, P_first = x_hat, st.P
+            # the smoother works in the error before the feedback's reset: (x̂, P) there, and
+            # the first step's transition Φ G (AidedSystem.reset_jacobian)
+            x_first, P_first = x_hat, P_fed
             # strapdown a → b with the compensated samples
             w0, w1 = max(0, a - before), min(M, b + own + after)
             W = w1 - w0
@@ -446,15 +450,19 @@ class _Filter:
             st.s_hat = s_decayed[-1]
             P_prior = P
             x_hat = np.zeros((R, n))
+            P_fed = P
             if b in self.sched.at:
-                x_hat, P = self.readings(b, P)
+                x_hat, P_fed = self.readings(b, P)
                 self.feedback(b, x_hat)
+                P = sysm.reset(P_fed, x_hat)
             st.P = P
             st.ep_idx.append(b)
             st.ep_prior.append(P_prior[:, :NAV, :NAV].copy())
             st.ep_post.append(P[:, :NAV, :NAV].copy())
             st.ep_est.append(st.s_hat.copy())
             if smooth:
+                if steps and x_first.any():
+                    steps[0] = (steps[0][0] @ sysm.reset_jacobian(x_first), steps[0][1])
                 segs.append((x_first, P_first, steps))
             a = b
         return segs, x_hat
