@@ -443,8 +443,9 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
             o["p_within_whole_outage"] = inside / n
             o["p_within_whole_outage_interval"] = [lo, hi]
             o["p_within_whole_outage_horizontal"] = ih / n
-            o["position_p95_end_interval_m"] = list(quantile_interval(
-                norms[:, np.nonzero(w)[0][-1]]))
+            o["position_p95_end_interval_m"] = [          # None: too few runs for that side
+                float(v) if np.isfinite(v) else None
+                for v in quantile_interval(norms[:, np.nonzero(w)[0][-1]])]
             o["within_tolerance"] = bool(inside / n >= LEVEL
                                          and o["position_p95_max_m"] <= tolerance)
             if lo < LEVEL <= hi:
@@ -522,10 +523,13 @@ def outage_line(o: dict, runs: int | None = None) -> str:
                 f"{o['position_p95_end_m']:.3g} m at its end — {verdict} the tolerance")
     lo, hi = o["p_within_whole_outage_interval"]
     qlo, qhi = o["position_p95_end_interval_m"]
+    q = (f"{'…' if qlo is None else f'{qlo:.3g}'}–{'…' if qhi is None else f'{qhi:.3g}'} m, 95 % "
+         "order statistics" + ("; too few runs for a bound on each side"
+                               if qlo is None or qhi is None else ""))
     return (head + f"{100 * p:.1f} % of {runs} runs within the tolerance at every epoch "
             f"[{100 * lo:.1f}–{100 * hi:.1f} %, 95 % Clopper–Pearson] (covariance "
             f"{100 * o['covariance_p_within_whole_outage']:.1f} %); p95 at its end "
-            f"{o['position_p95_end_m']:.3g} m [{qlo:.3g}–{qhi:.3g} m, 95 % order statistics] "
+            f"{o['position_p95_end_m']:.3g} m [{q}] "
             f"(covariance {o['covariance_p95_end_m']:.3g} m) — {verdict} the "
             "tolerance")
 
