@@ -489,10 +489,6 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
     return r
 
 
-def _fix(v) -> str:
-    return "the start" if v is None else f"{v:g} s"
-
-
 def outage_line(o: dict, runs: int | None = None) -> str:
     """One outage of the aided verdict as text: its fixes, its probability of staying within
     the tolerance at every epoch (with its standard error, or its Monte Carlo interval), the
@@ -510,8 +506,9 @@ def outage_line(o: dict, runs: int | None = None) -> str:
     str
     """
     nxt = "the end" if o.get("next_fix_s") is None else f"{o['next_fix_s']:g} s"
-    head = (f"  GNSS outage {o['start']:g}–{o['end']:g} s (last fix {_fix(o.get('last_fix_s'))}"
-            f", next {nxt}): ")
+    last = ("from the record's start" if o.get("last_fix_s") is None
+            else f"last fix {o['last_fix_s']:g} s")
+    head = f"  GNSS outage {o['start']:g}–{o['end']:g} s ({last}, next {nxt}): "
     verdict = "within" if o["within_tolerance"] else "BEYOND"
     if "p_within_whole_outage" not in o:
         return (head + f"p95 up to {o['position_p95_max_m']:.3g} m — {verdict} the "

@@ -146,10 +146,10 @@ class Window:
         unbiased whichever epoch ``*`` is, and never above the exact probability at ``*``
         (an upper bound of the whole); its error is ``√(δ(1 − δ)/S)`` with ``δ`` that
         fraction (``δ = (c + 1)/(S + 2)`` for ``c`` such paths: Laplace's rule, so that none
-        seen is not read as no error), smallest where the marginal is: ``*`` is the epoch with the largest p95 by
-        the tabulated bounds (:func:`~imunav.analysis.gaussnorm.tabulated_quantile_bounds`,
-        within 3 %). Near 0.95 the error is a few times smaller than the plain fraction's
-        ``√(p(1 − p)/S)``.
+        seen is not read as no error), smallest where the marginal is: ``*`` is the epoch
+        with the largest p95 by the tabulated bounds (within 3 %:
+        :func:`~imunav.analysis.gaussnorm.tabulated_quantile_bounds`). Near 0.95 the error is
+        a few times smaller than the plain fraction's ``√(p(1 − p)/S)``.
 
         Parameters
         ----------
