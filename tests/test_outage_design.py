@@ -288,6 +288,7 @@ def test_max_outage_s_is_the_gap_from_the_last_fix_to_the_next(tmp_path, capsys)
         assert o["last_fix_s"] == int(o["last_fix_s"])     # 1 Hz fixes from 1 s on
         assert 0 <= o["p_within_whole_outage"] <= 1
     assert not r["limited_by_motion"] and r["max_outage_s"] >= 2
+    assert r["tolerance_on"].startswith("3-D")            # the JSON says which error
     assert r["gnss_outage_s"] == [r["last_fix_s"] + 1, r["next_fix_s"] - 1]
     assert r["outage_start_s"] == r["gnss_outage_s"][0]
     assert f"max_outage_s = {r['max_outage_s']:g} s, from the last fix at " \
@@ -297,7 +298,9 @@ def test_max_outage_s_is_the_gap_from_the_last_fix_to_the_next(tmp_path, capsys)
     assert main(["assess", str(tmp_path / "m.toml"), "--imu", "ADIS16470", "--rate", "20",
                  "--tolerance", "8", "--aiding", str(tmp_path / "b.toml"), "--json",
                  str(tmp_path / "s.json")]) == 0
-    (o,) = json.loads((tmp_path / "s.json").read_text())["outages"]
+    s = json.loads((tmp_path / "s.json").read_text())
+    assert s["tolerance_on"] == r["tolerance_on"]
+    (o,) = s["outages"]
     assert (o["last_fix_s"], o["next_fix_s"]) == (r["last_fix_s"], r["next_fix_s"])
     assert o["within_tolerance"] and o["p_within_whole_outage"] >= 0.95
     assert o["position_p95_end_m"] == pytest.approx(r["position_p95_end_m"], rel=1e-9)

@@ -44,14 +44,19 @@ from imunav.sensors.aids import AidingConfig
 from imunav.sensors.models import ImuModel
 from imunav.sensors.simulate import interval_count
 
-__all__ = ["ATTITUDE_VALID", "P95", "active_fixes", "aided_covariance", "aided_span",
-           "assess_aided", "file_outages", "format_aided_verdict", "gnss_times", "outage_line",
-           "no_fix_warnings", "outage_budget", "outage_p95", "outage_pass", "outage_spans",
-           "outage_windows", "per_outage", "quantile_interval", "replace_outages",
-           "runs_within"]
+__all__ = ["ATTITUDE_VALID", "P95", "TOLERANCE_ON", "active_fixes", "aided_covariance",
+           "aided_span", "assess_aided", "file_outages", "format_aided_verdict", "gnss_times",
+           "no_fix_warnings", "outage_budget", "outage_line", "outage_p95", "outage_pass",
+           "outage_spans", "outage_windows", "per_outage", "quantile_interval",
+           "replace_outages", "runs_within"]
 
 
 P95 = 0.95
+
+#: What the tolerance of every aided answer applies to (a key of their JSON): the 3-D norm of
+#: the position error — ``position_p95_*`` and ``p_within_whole_outage`` alike; the
+#: horizontal error's probability is kept beside (``p_within_whole_outage_horizontal``).
+TOLERANCE_ON = "3-D position error norm (north, east, down)"
 
 #: p95 attitude error (rad) beyond which the linearised filter is flagged. A coarse flag: a
 #: yaw not yet observed before the first accelerations reaches 0.4 rad with a BMI088 on the
@@ -397,7 +402,8 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
         ``position_p95_m``, ``filter_position_p95_m``), ``outages`` (``start``, ``end``,
         ``last_fix_s``, ``next_fix_s``, ``p_within_whole_outage`` (with ``…_se`` or, by Monte
         Carlo, ``…_interval``), ``position_p95_max_m``, ``position_p95_end_m``, with a Monte
-        Carlo ``covariance_…`` beside), ``level``, ``error_budget``, ``warnings``.
+        Carlo ``covariance_…`` beside), ``level``, ``tolerance_on`` (:data:`TOLERANCE_ON`),
+        ``error_budget``, ``warnings``.
     """
     tolerance = check_positive(tolerance, "tolerance")
     duration = aided_span(motion, rate, duration)
@@ -418,6 +424,7 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
     r: dict = {"motion": motion.name, "imu": imu.name, "rate_hz": float(rate),
                "tolerance_m": tolerance, "aiding": list(aiding.sensors),
                "method": "covariance", "runs": None, "seed": None, "level": LEVEL,
+               "tolerance_on": TOLERANCE_ON,
                "max_p95_attitude_rad": float(att.max())}
     p95 = truth
     if runs is not None:

@@ -13,6 +13,7 @@ import numpy as np
 from imunav.analysis.aided_assessment import (
     ATTITUDE_VALID,
     P95,
+    TOLERANCE_ON,
     active_fixes,
     aided_covariance,
     aided_span,
@@ -397,7 +398,8 @@ def design_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
     t, truth, _, per, _ = outage_pass(at, outs, tolerance=tolerance)
     worst = int(np.argmax(truth))
     r: dict = {"motion": motion.name, "imu": imu.name, "rate_hz": float(rate),
-               "tolerance_m": tolerance, "aiding": list(aiding.sensors),
+               "tolerance_m": tolerance, "tolerance_on": TOLERANCE_ON,
+               "aiding": list(aiding.sensors),
                "max_p95_position_m": float(truth[worst]), "time_max_p95_s": float(t[worst]),
                "outages": per,
                "terms": term_limits(at, tolerance, outs, retune=retune),

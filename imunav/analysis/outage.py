@@ -31,6 +31,7 @@ import numpy as np
 
 from imunav.analysis.aided_assessment import (
     P95,
+    TOLERANCE_ON,
     active_fixes,
     aided_covariance,
     aided_span,
@@ -235,7 +236,9 @@ def find_outage(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: f
         ``position_p95_end_m`` (the p95 at the last epoch before the next fix,
         ``t_end_s``), ``position_p95_max_m``, ``max_outage_p95_s`` (the longest outage by the
         per-epoch p95 alone), ``limited_by_motion``, ``gnss_interval_s``,
-        ``starts_compared``, ``samples``, ``error_budget``, ``warnings``.
+        ``starts_compared``, ``samples``, ``tolerance_on`` (the 3-D position error norm:
+        :data:`~imunav.analysis.aided_assessment.TOLERANCE_ON`), ``error_budget``,
+        ``warnings``.
 
     Raises
     ------
@@ -320,7 +323,8 @@ def find_outage(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: f
          "position_p95_max_m": float(p95.max()),
          "max_outage_p95_s": float(a["next_fix_p95_s"] - t_last),
          "limited_by_motion": bool(a["limited_by_motion"]), "gnss_interval_s": dt,
-         "starts_compared": int(cand.size), "samples": int(samples)}
+         "starts_compared": int(cand.size), "samples": int(samples),
+         "tolerance_on": TOLERANCE_ON}
     if budget and lost.size:
         r["error_budget_at_s"] = r["t_end_s"]
         r["error_budget"] = outage_budget(at, [(float(lost[0]), float(lost[-1]))],
