@@ -77,7 +77,7 @@ def _walk_zupt():
     """Notebook 10's walk: its zero-velocity updates at 5 per second inside the true stances
     (``zupt_walk``'s default), readings drawn with the update's own σ."""
     walk, duration, _ = load_motion(ROOT / "examples" / "walk.toml")
-    nodes = simulate_imu(walk, 100.0, duration, output="increments").state_times()
+    nodes = simulate_imu(walk, 100.0, duration, kind="increments").state_times()
     t = thin_stances(walk.stance_intervals(), nodes, 5.0)[:, 0]
     return walk, duration, [Aid(Zupt(0.01), t, np.zeros((t.size, 3)))]
 
@@ -209,7 +209,7 @@ class _TruthLinearisation:
     (patches ``filters._linearisation`` for the duration; flat frame)."""
 
     def __init__(self, motion, rate, duration):
-        sig = simulate_imu(motion, rate, duration, output="increments")
+        sig = simulate_imu(motion, rate, duration, kind="increments")
         st = motion.states(sig.state_times())
         self.q, self.v = st.quaternion, st.velocity
         self.g, self.a = sig.gyro * rate, sig.accel * rate

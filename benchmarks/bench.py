@@ -514,12 +514,12 @@ def aided_speed_bench(seconds: float = 3600.0, first: float | None = 600.0, runs
     bmi = ImuModel.load("BMI088")
     span = seconds if first is None else min(first, seconds)
     motion = EarthMotion(drive(seconds), ORIGIN)
-    sig = simulate_imu(motion, rate, span, output="increments", imu=bmi, seed=5)
+    sig = simulate_imu(motion, rate, span, kind="increments", imu=bmi, seed=5)
     cfg = AidingConfig.from_dict({"gnss": {"rate": 1, "position_sigma": 1.5},
                                   "nhc": {"sigma": 0.1, "rate": 10}, "initial": INITIAL})
     data = simulate_aiding(motion, cfg, span, seed=5, imu_rate=rate)
     x0 = motion.states(np.array([0.0])).initial()
-    hour = (simulate_imu(motion, rate, seconds, output="increments", imu=bmi, seed=5)
+    hour = (simulate_imu(motion, rate, seconds, kind="increments", imu=bmi, seed=5)
             if span < seconds else sig)
     times = {"navigate": [], "filter": [], "navigate_hour": [], "drive_filter": [],
              "montecarlo": [], "montecarlo_2_workers": []}
@@ -540,7 +540,7 @@ def aided_speed_bench(seconds: float = 3600.0, first: float | None = 600.0, runs
     car = load_motion(HERE.parent / "examples" / "drive.toml")[0]
     aiding = AidingConfig.from_toml(HERE.parent / "examples" / "drive_aiding.toml")
     car_rate = 100.0
-    sig1 = simulate_imu(car, car_rate, car.duration, output="increments", imu=bmi, seed=1)
+    sig1 = simulate_imu(car, car_rate, car.duration, kind="increments", imu=bmi, seed=1)
     data1 = simulate_aiding(car, aiding, car.duration, seed=1, imu_rate=car_rate)
     x1 = car.states(np.array([0.0])).initial()
     same = True
@@ -596,6 +596,44 @@ AIDED_SPEED = {
     "aided_montecarlo_processes_speedup": ("aided: Monte Carlo on 2 processes / on 1 (speedup)",
                                            lambda x: x >= 1.7, "≥ 1.7"),
 }
+
+
+def outage_search_bench(rounds: int = 5, imu: str = "BMI088", rate: float = 100.0,
+                        tolerance: float = 10.0) -> dict:
+    """``find_outage_over_assess_aided``: ``design --find outage`` for one preset — the outage
+    search :func:`~imunav.analysis.outage.find_outage` as ``imunav design --aiding … --find
+    outage`` runs it for its IMU (its covariance analysis built, every placement walked, the
+    whole-outage probability, the budget) — over one ``assess --aiding`` covariance analysis
+    (:func:`~imunav.analysis.aided_assessment.assess_aided` as ``imunav assess --aiding`` runs
+    it, the outages' probabilities and the budget included), on ``examples/drive.toml`` with
+    ``examples/drive_aiding.toml`` and a BMI088 at 100 Hz, 10 m: interleaved rounds in this
+    process, the median of the rounds' ratios with min and max."""
+    from imunav.analysis.aided_assessment import assess_aided
+    from imunav.analysis.outage import find_outage
+    from imunav.io.files import load_motion
+    from imunav.sensors.aids import AidingConfig
+
+    motion = load_motion(HERE.parent / "examples" / "drive.toml")[0]
+    aiding = AidingConfig.from_toml(HERE.parent / "examples" / "drive_aiding.toml")
+    model = ImuModel.load(imu)
+    assess_aided(motion, model, aiding, rate, tolerance, progress=False)     # warm: not timed
+    times = {"find_outage": [], "assess_aided": []}
+    for r in range(rounds):
+        t0 = time.perf_counter()
+        assess_aided(motion, model, aiding, rate, tolerance, progress=False)
+        times["assess_aided"].append(time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        f = find_outage(motion, model, aiding, rate, tolerance)
+        times["find_outage"].append(time.perf_counter() - t0)
+        print(f"  outage search round {r + 1}/{rounds}: design --find outage "
+              f"{times['find_outage'][-1]:.2f} s (max_outage_s {f['max_outage_s']:g} s), "
+              f"assess --aiding {times['assess_aided'][-1]:.2f} s (load "
+              f"{os.getloadavg()[0]:.2f})", flush=True)
+    ratio = spread([f_ / a_ for f_, a_ in zip(times["find_outage"], times["assess_aided"],
+                                              strict=True)])
+    return {"imu": imu, "rate": rate, "rounds": rounds, "timings": times,
+            "find_outage_over_assess_aided": ratio[0],
+            "find_outage_over_assess_aided_min_max": {"min": ratio[1], "max": ratio[2]}}
 
 
 def main(argv=None):
@@ -980,6 +1018,12 @@ def main(argv=None):
         aided_assess["aided_montecarlo_over_covariance"] >= 30
     line("aided assess: Monte Carlo of the EKF / covariance", "aided_montecarlo_over_covariance",
          "8.1f")
+    search = outage_search_bench(a.rounds)
+    ratios["find_outage_over_assess_aided"] = search["find_outage_over_assess_aided"]
+    ranges["find_outage_over_assess_aided"] = search["find_outage_over_assess_aided_min_max"]
+    targets["design --find outage ≤ 5× assess --aiding (BMI088, example drive)"] = \
+        search["find_outage_over_assess_aided"] <= 5
+    line("design --find outage / assess --aiding (BMI088)", "find_outage_over_assess_aided")
     aided = aided_filter_bench(a.filter_seconds, a.filter_rounds,
                                pyins_seconds=a.filter_pyins_seconds)
     ratios["pyins_filter_over_imunav"] = aided["pyins_filter_over_imunav"]

@@ -325,8 +325,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="aided: the filter with these aids (the file's GNSS outages kept for "
                         "the IMU limits; replaced by the one searched with --find outage)")
     d.add_argument("--find", choices=("outage",),
-                   help="with --aiding: outage — the longest GNSS outage whose p95 position "
-                        "error stays within the tolerance (max_outage_s)")
+                   help="with --aiding: outage — the longest GNSS outage (max_outage_s: from "
+                        "the last fix used to the next) through which the position error "
+                        "stays within the tolerance at every epoch with a probability of at "
+                        "least 95 %%")
     d.add_argument("--outage-start", type=_nonnegative("--outage-start"), metavar="S",
                    help="with --find outage: the outage starts here (s; default where it "
                         "hurts most)")

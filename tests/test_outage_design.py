@@ -1,5 +1,7 @@
-"""The aided design (issue 29): the limit of each IMU term with these aids and every preset
-ranked, as the unaided design gives them.
+"""The aided design (issues 29 and 38): the limit of each IMU term with these aids and every
+preset ranked, as the unaided design gives them; the longest outage as the gap from the last
+fix used to the next, its verdict by the probability over the whole outage, and the search
+that reuses one walk keeping the old search's per-epoch numbers.
 
 A term's limit (the filter retuned to it) is checked against an independent analysis: a fresh
 aided covariance of the IMU with that term set to its limit — the filter built from that IMU,
@@ -20,7 +22,9 @@ import pytest
 
 from imunav.analysis import aided_assessment as A
 from imunav.analysis import aided_design as D
+from imunav.analysis import crossing as X
 from imunav.analysis import outage as O
+from imunav.analysis.assessment import runs_interval
 from imunav.analysis.gaussnorm import norm_quantile
 from imunav.cli import main
 from imunav.estimation.error_model import DP
@@ -108,12 +112,16 @@ def test_presets_ranked_through_the_outages(drive, aiding):
     for r in rows:
         imu = ImuModel.load(r["name"])
         at = A.aided_covariance(drive, imu, aiding, RATE, DURATION)
-        _, truth, _, _ = A.outage_p95(at, [OUTAGE])
+        _, truth, _, (o,), _ = A.outage_pass(at, [OUTAGE], tolerance=10.0)
         assert r["max_p95_position_m"] == pytest.approx(truth.max(), rel=1e-9)
         assert r["final_p95_position_m"] == pytest.approx(truth[-1], rel=1e-9)
-        assert r["suitable"] == (truth.max() <= 10.0)
+        # suitable: the p95 within at every epoch and the outage within at every epoch with
+        # a probability of at least 95 %
+        assert r["suitable"] == (truth.max() <= 10.0 and o["p_within_whole_outage"] >= 0.95)
+        assert r["p_within_whole_outages"] == [o["p_within_whole_outage"]]
         f = O.find_outage(drive, imu, aiding, RATE, 10.0, DURATION, budget=False)
         assert r["max_outage_s"] == f["max_outage_s"]
+        assert r["max_outage_s"] == r["next_fix_s"] - r["last_fix_s"]
     assert rows[0]["suitable"] and not rows[-1]["suitable"]
 
 
@@ -247,3 +255,162 @@ def test_an_aid_faster_than_the_imu_is_refused(tmp_path, capsys):
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1
     assert "[gnss] rate = 25 Hz is above the IMU rate of 20 Hz" in err and "a.toml" in err
+
+
+def _objects_with(obj, key):
+    """Every dict in a JSON document that carries ``key``."""
+    if isinstance(obj, dict):
+        yield from ([obj] if key in obj else [])
+        for v in obj.values():
+            yield from _objects_with(v, key)
+    elif isinstance(obj, list):
+        for v in obj:
+            yield from _objects_with(v, key)
+
+
+def test_max_outage_s_is_the_gap_from_the_last_fix_to_the_next(tmp_path, capsys):
+    """Issue 38: "max_outage_s = 30 s" removed the fixes from 30 to 60 s inclusive, a gap of
+    32 s between the last fix used and the next. Now every object of the JSON that carries
+    max_outage_s carries last_fix_s and next_fix_s, fixes of the record, with max_outage_s ==
+    next_fix_s − last_fix_s; the fixes lost are those between them, and written as the aiding
+    file's outage they give the same window in an independent assessment."""
+    (tmp_path / "m.toml").write_text(MOTION)
+    (tmp_path / "a.toml").write_text(AIDING)
+    assert main(["design", str(tmp_path / "m.toml"), "--imu", "ADIS16470", "--rate", "20",
+                 "--tolerance", "8", "--aiding", str(tmp_path / "a.toml"), "--find", "outage",
+                 "--json", str(tmp_path / "d.json")]) == 0
+    out = capsys.readouterr().out
+    r = json.loads((tmp_path / "d.json").read_text())
+    objs = list(_objects_with(r, "max_outage_s"))
+    assert len(objs) == 1 + 6                             # the answer and each preset's
+    for o in objs:
+        assert o["max_outage_s"] == o["next_fix_s"] - o["last_fix_s"], o
+        assert o["last_fix_s"] == int(o["last_fix_s"])     # 1 Hz fixes from 1 s on
+        assert 0 <= o["p_within_whole_outage"] <= 1
+    assert not r["limited_by_motion"] and r["max_outage_s"] >= 2
+    assert r["tolerance_on"].startswith("3-D")            # the JSON says which error
+    assert r["gnss_outage_s"] == [r["last_fix_s"] + 1, r["next_fix_s"] - 1]
+    assert r["outage_start_s"] == r["gnss_outage_s"][0]
+    assert f"max_outage_s = {r['max_outage_s']:g} s, from the last fix at " \
+           f"{r['last_fix_s']:g} s to the next at {r['next_fix_s']:g} s" in out
+    # the outage written into the aiding file: the same window, within the tolerance
+    (tmp_path / "b.toml").write_text(AIDING.replace("[[20, 28]]", str([r["gnss_outage_s"]])))
+    assert main(["assess", str(tmp_path / "m.toml"), "--imu", "ADIS16470", "--rate", "20",
+                 "--tolerance", "8", "--aiding", str(tmp_path / "b.toml"), "--json",
+                 str(tmp_path / "s.json")]) == 0
+    s = json.loads((tmp_path / "s.json").read_text())
+    assert s["tolerance_on"] == r["tolerance_on"]
+    (o,) = s["outages"]
+    assert (o["last_fix_s"], o["next_fix_s"]) == (r["last_fix_s"], r["next_fix_s"])
+    assert o["within_tolerance"] and o["p_within_whole_outage"] >= 0.95
+    assert o["position_p95_end_m"] == pytest.approx(r["position_p95_end_m"], rel=1e-9)
+
+
+def _old_search(at, cand, tol):
+    """The outage search before issue 38 (imunav 2a84d81 ``lost_from`` and ``find_outage``),
+    kept as the reference: per start, the p95 criterion, the outage ``[s, s + L]`` (fixes
+    ``s ≤ t ≤ s + L`` lost). Returns each start's ``L`` (None when the motion cuts it)."""
+    wf, wt, _ = at.weights()
+    E = at.t.size - 1
+    base = A.active_fixes(at, [[]])
+    step = max(1, int(round(10.0 / np.diff(at.t).mean())))
+    out, e0, P = [], 0, None
+    for s0 in cand:
+        e_b = max(0, int(np.searchsorted(at.t, s0 - 1e-9)) - 1)
+        P = (at.propagate(wf, wt, base, stop=e_b, keep=False).final if P is None else
+             at.propagate(wf, wt, base, start=e0, stop=e_b, P_start=P, keep=False).final)
+        e0 = e_b
+        act = A.active_fixes(at, [[(float(s0), float(at.t[-1]) + 1.0)]])
+        Pc, e, t_over = P, e_b, None
+        while e < E and t_over is None:
+            stop = min(E, e + step)
+            res = at.propagate(wf, wt, act, start=e, stop=stop, P_start=Pc)
+            over = O.exceeds(res.truth_post[0, 0][1:][:, DP, DP], tol)
+            if over.any():
+                t_over = res.t[1:][np.nonzero(over)[0][0]]
+            Pc, e = res.final, stop
+        out.append(None if t_over is None else
+                   max(int(np.floor((t_over - s0) / 1.0 + 1e-9)) - 1, -1) * 1.0)
+    return out
+
+
+def test_the_search_keeps_the_old_search_per_epoch_numbers(drive):
+    """Issue 39: the search walks every start in one loop from one baseline pass (no pass per
+    start). Its per-epoch p95 lengths are the old search's, start by start, in the new
+    semantics: the old outage [s, s + L] is the gap from the fix before s to the one after
+    s + L, L + 2 GNSS intervals."""
+    imu = ImuModel.load("BMI088")
+    aiding = AidingConfig.from_dict({"gnss": {"rate": 1, "position_sigma": 1.5,
+                                              "velocity_sigma": 0.1},
+                                     "nhc": {"sigma": 0.1, "rate": 10}})
+    at = A.aided_covariance(drive, imu, aiding, RATE, 150.0)
+    tol = 10.0
+    cand = np.array([20.0, 31.0, 47.0, 60.0, 85.0, 100.0])
+    old = _old_search(at, cand, tol)
+    tg = A.gnss_times(at)
+    e = np.searchsorted(at.t, cand - 1.0 - 1e-9)
+    wins = X.walk(at, e, O.baseline_states(at, e), tol, samples=64, decide=True)
+    checked = 0
+    for s0, L_old, w in zip(cand, old, wins, strict=True):
+        new = O.outage_lengths(w, s0 - 1.0, s0, tg, float(at.t[-1]))
+        if L_old is None:
+            assert new["limited_by_motion_p95"]
+            continue
+        assert new["next_fix_p95_s"] - (s0 - 1.0) == L_old + 2.0, (s0, L_old, new)
+        checked += 1
+    assert checked >= 4
+
+
+def test_the_verdict_uses_the_whole_outage_probability(drive):
+    """A 46 s outage (GNSS and NHC, the filter settled) at a tolerance just above its largest
+    p95: within the tolerance at every epoch by the per-epoch reading — the old verdict — but
+    the probability of staying within it at every epoch is below 95 %: BEYOND, NOT SUITABLE;
+    and the longest outage from that start is shorter than the per-epoch p95's."""
+    imu = ImuModel.load("BMI088")
+    out = (31.0, 75.0)
+    aiding = AidingConfig.from_dict({"gnss": {"rate": 1, "position_sigma": 1.5,
+                                              "velocity_sigma": 0.1, "outages": [list(out)]},
+                                     "nhc": {"sigma": 0.1, "rate": 10}})
+    at = A.aided_covariance(drive, imu, aiding, RATE, 77.0)
+    (o0,) = A.outage_p95(at, [out])[3]
+    tol = 1.001 * o0["position_p95_max_m"]
+    r = A.assess_aided(drive, imu, aiding, RATE, tol, 77.0, budget=False, progress=False)
+    (o,) = r["outages"]
+    assert o["position_p95_max_m"] <= tol and r["max_p95_position_m"] <= tol   # per epoch: in
+    assert o["p_within_whole_outage"] < 0.95 - 3 * o["p_within_whole_outage_se"]
+    assert not o["within_tolerance"] and not r["suitable"]
+    assert not r["outages_within_tolerance"]
+    text = A.format_aided_verdict(r)
+    assert "NOT SUITABLE" in text and "BEYOND the tolerance" in text
+    assert f"probability {100 * o['p_within_whole_outage']:.1f} %" in text
+    f = O.find_outage(drive, imu, aiding, RATE, tol, 77.0, at=at, start=31.0, budget=False)
+    assert f["last_fix_s"] == 30.0 and f["max_outage_p95_s"] >= 46.0
+    assert f["max_outage_s"] < f["max_outage_p95_s"] and f["p_within_whole_outage"] >= 0.95
+
+
+def test_assess_monte_carlo_prints_its_intervals(tmp_path, capsys):
+    """Every Monte Carlo confirmation prints its 95 % interval: the fraction of runs within
+    the tolerance at every epoch of the outage with its Clopper–Pearson interval, the p95 at
+    its end with its order-statistic one (none above it from 40 runs: said so, null in the
+    JSON); the covariance's sampled probability with its standard error."""
+    (tmp_path / "m.toml").write_text(MOTION)
+    (tmp_path / "a.toml").write_text(AIDING)
+    assert main(["assess", str(tmp_path / "m.toml"), "--imu", "BMI088", "--rate", "20",
+                 "--tolerance", "4", "--aiding", str(tmp_path / "a.toml"), "--runs", "40",
+                 "--json", str(tmp_path / "r.json")]) == 0
+    out = capsys.readouterr().out
+    r = json.loads((tmp_path / "r.json").read_text())
+    (o,) = r["outages"]
+    k = round(o["p_within_whole_outage"] * 40)
+    assert o["p_within_whole_outage"] == k / 40
+    lo, hi = runs_interval(k, 40)
+    assert o["p_within_whole_outage_interval"] == [lo, hi]
+    assert f"[{100 * lo:.1f}–{100 * hi:.1f} %, 95 % Clopper–Pearson]" in out
+    qlo, qhi = o["position_p95_end_interval_m"]
+    assert qhi is None and qlo <= o["position_p95_end_m"]
+    assert "95 % order statistics; too few runs for a bound on each side" in out
+    assert "covariance_p_within_whole_outage" in o
+    assert main(["assess", str(tmp_path / "m.toml"), "--imu", "BMI088", "--rate", "20",
+                 "--tolerance", "4", "--aiding", str(tmp_path / "a.toml")]) == 0
+    out = capsys.readouterr().out
+    assert "% (± " in out and "sampled)" in out

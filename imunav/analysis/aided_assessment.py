@@ -27,10 +27,13 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+from scipy.stats import binom
 
 from imunav.analysis.aided_covariance import AlongTruth
 from imunav.analysis.aided_montecarlo import aided_monte_carlo
+from imunav.analysis.assessment import CONFIDENCE, runs_interval
 from imunav.analysis.covariance import ENVELOPE_POINTS, envelope_index
+from imunav.analysis.crossing import LEVEL, SAMPLES, walk
 from imunav.analysis.gaussnorm import norm_quantile
 from imunav.core.constants import G0
 from imunav.core.kernels import FloatArray
@@ -41,13 +44,19 @@ from imunav.sensors.aids import AidingConfig
 from imunav.sensors.models import ImuModel
 from imunav.sensors.simulate import interval_count
 
-__all__ = ["ATTITUDE_VALID", "P95", "active_fixes", "aided_covariance", "aided_span",
-           "assess_aided", "file_outages", "format_aided_verdict", "gnss_times",
-           "no_fix_warnings", "outage_budget", "outage_p95", "outage_pass", "outage_windows",
-           "per_outage", "replace_outages"]
+__all__ = ["ATTITUDE_VALID", "P95", "TOLERANCE_ON", "active_fixes", "aided_covariance",
+           "aided_span", "assess_aided", "file_outages", "format_aided_verdict", "gnss_times",
+           "no_fix_warnings", "outage_budget", "outage_line", "outage_p95", "outage_pass",
+           "outage_spans", "outage_windows", "per_outage", "quantile_interval",
+           "replace_outages", "runs_within"]
 
 
 P95 = 0.95
+
+#: What the tolerance of every aided answer applies to (a key of their JSON): the 3-D norm of
+#: the position error — ``position_p95_*`` and ``p_within_whole_outage`` alike; the
+#: horizontal error's probability is kept beside (``p_within_whole_outage_horizontal``).
+TOLERANCE_ON = "3-D position error norm (north, east, down)"
 
 #: p95 attitude error (rad) beyond which the linearised filter is flagged. A coarse flag: a
 #: yaw not yet observed before the first accelerations reaches 0.4 rad with a BMI088 on the
@@ -153,48 +162,168 @@ def outage_p95(at: AlongTruth, outages: list[tuple[float, float]], *, imu_scale:
         95th percentile of the position-error norm (m): the true error and the filter's belief
         (after each epoch's readings).
     per_outage : list of dict
-        ``{"start", "end", "position_p95_max_m", "position_p95_end_m"}``.
+        ``{"start", "end", "last_fix_s", "next_fix_s", "position_p95_max_m",
+        "position_p95_end_m", "t_end_s"}``.
     """
     return outage_pass(at, outages, imu_scale)[:4]
 
 
-def outage_pass(at: AlongTruth, outages, imu_scale: float = 1.0):
-    """:func:`outage_p95` and the true attitude error's p95 at every epoch."""
+def outage_pass(at: AlongTruth, outages, imu_scale: float = 1.0, *,
+                tolerance: float | None = None, samples: int = SAMPLES, seed: int = 0):
+    """:func:`outage_p95` and the true attitude error's p95 at every epoch; with
+    ``tolerance``, each outage's probability of staying within it at every epoch
+    (:func:`~imunav.analysis.crossing.walk`: ``p_within_whole_outage``, its standard error
+    ``p_within_whole_outage_se``, the horizontal error's beside) and its verdict
+    ``within_tolerance`` (that probability at least :data:`~imunav.analysis.crossing.LEVEL`).
+
+    The pass is cut at each outage's last fix (the covariances there start its walk): the
+    same numbers as one pass.
+    """
     wf, wt, _ = at.weights(imu_scale)
     act = active_fixes(at, [outages])
-    res = at.propagate(wf, wt, act)
-    truth = norm_quantile(res.truth_post[0, 0][:, DP, DP], P95)
-    filt = norm_quantile(res.filter_post[0][:, DP, DP], P95)
-    att = norm_quantile(res.truth_post[0, 0][:, PHI, PHI], P95)
-    return res.t, truth, filt, per_outage(res.t, truth, outages,
-                                           outage_windows(at, outages, act[0])), att
+    spans = outage_spans(at, outages, act[0])
+    E = at.t.size - 1
+    starts = sorted({e0 for e0, _ in spans}) if tolerance is not None else []
+    cuts = [e for e in starts if 0 < e < E]
+    parts, P, P_at, e0 = [], None, {}, 0
+    for e1 in cuts + [E]:
+        res = at.propagate(wf, wt, act, start=e0, stop=e1, P_start=P)
+        parts.append(res if not parts else _drop_first(res))
+        P, e0 = res.final, e1
+        P_at[e1] = P[0]
+    if 0 in starts:
+        P_at[0] = at.propagate(wf, wt, act, stop=0, keep=False).final[0]
+    t = np.concatenate([r.t for r in parts])
+    tpost = np.concatenate([r.truth_post[0, 0] for r in parts])
+    fpost = np.concatenate([r.filter_post[0] for r in parts])
+    truth = norm_quantile(tpost[:, DP, DP], P95)
+    filt = norm_quantile(fpost[:, DP, DP], P95)
+    att = norm_quantile(tpost[:, PHI, PHI], P95)
+    windows = outage_windows(at, outages, act[0])
+    per = per_outage(t, truth, outages, windows, spans, at)
+    if tolerance is not None:
+        keep = [i for i, w in enumerate(windows) if w.any()]
+        wins = walk(at, [spans[i][0] for i in keep], np.stack([P_at[spans[i][0]] for i in keep])
+                    if keep else np.zeros((0, 2, at.n, at.n)), tolerance,
+                    stops=[spans[i][1] for i in keep], samples=samples, seed=seed,
+                    imu_scale=imu_scale)
+        for o, w in zip(per, wins, strict=True):
+            until = w.t[-1] + 1e-6
+            (p,), (se,) = w.p_within([until])
+            (ph,), (seh,) = w.p_within([until], horizontal=True)
+            o.update({"p_within_whole_outage": float(p), "p_within_whole_outage_se": float(se),
+                      "p_within_whole_outage_horizontal": float(ph),
+                      "p_within_whole_outage_horizontal_se": float(seh)})
+            o["within_tolerance"] = bool(p >= LEVEL and o["position_p95_max_m"] <= tolerance)
+    return t, truth, filt, per, att
 
 
-def outage_windows(at: AlongTruth, outages, active: np.ndarray) -> list[np.ndarray]:
-    """Per outage, its epochs: from its start until the next fix used (that one excluded —
-    the error grows until the fix after the outage, not only until the outage's end), or the
-    end of the motion."""
+def _drop_first(res):
+    """A pass started at an epoch another pass ended at, without that epoch's record."""
+    return dataclasses.replace(res, t=res.t[1:], filter_prior=res.filter_prior[:, 1:],
+                               filter_post=res.filter_post[:, 1:],
+                               truth_prior=res.truth_prior[:, :, 1:],
+                               truth_post=res.truth_post[:, :, 1:])
+
+
+def outage_spans(at: AlongTruth, outages, active: np.ndarray) -> list[tuple[int, int]]:
+    """Per outage, its first and last epoch: from the last fix used before it (that fix's
+    epoch, after its update; the record's start if there is none) until the epoch before the
+    next fix used (that fix corrects the error: the error grows until it, not only until the
+    outage's end), or the record's end."""
     tg = gnss_times(at)
     used = tg[active]
     t = at.t
     out = []
     for t0, t1 in outages:
-        nxt = used[used > t1 + 1e-9]
-        stop = nxt[0] - 1e-9 if nxt.size else t[-1] + 1e-9
-        out.append((t >= t0 - 1e-9) & (t < stop))
+        before, after = used[used < t0 - 1e-9], used[used > t1 + 1e-9]
+        e0 = int(np.searchsorted(t, before[-1] - 1e-9)) if before.size else 0
+        e1 = int(np.searchsorted(t, after[0] - 1e-9)) - 1 if after.size else t.size - 1
+        out.append((e0, max(e0, e1)))
     return out
 
 
-def per_outage(t: FloatArray, p95: FloatArray, outages, windows) -> list[dict]:
+def outage_windows(at: AlongTruth, outages, active: np.ndarray) -> list[np.ndarray]:
+    """Per outage, its epochs (:func:`outage_spans`) as a boolean mask over ``at.t``."""
     out = []
-    for (t0, t1), inside in zip(outages, windows, strict=True):
+    for e0, e1 in outage_spans(at, outages, active):
+        mask = np.zeros(at.t.size, bool)
+        mask[e0:e1 + 1] = True
+        out.append(mask)
+    return out
+
+
+def per_outage(t: FloatArray, p95: FloatArray, outages, windows, spans=None,
+               at: AlongTruth | None = None) -> list[dict]:
+    """Each outage's numbers from the p95 at every epoch: ``start``, ``end`` (the outage as
+    written), ``last_fix_s`` and ``next_fix_s`` (the fixes used around it: None where the
+    record starts or ends first), ``position_p95_max_m``, and ``position_p95_end_m`` at
+    ``t_end_s``, the last epoch before the next fix."""
+    out = []
+    for i, ((t0, t1), inside) in enumerate(zip(outages, windows, strict=True)):
         if not inside.any():
             continue
-        end = int(np.nonzero(inside)[0][-1])
-        out.append({"start": float(t0), "end": float(t1),
-                    "position_p95_max_m": float(p95[inside].max()),
-                    "position_p95_end_m": float(p95[end]), "t_end_s": float(t[end])})
+        idx = np.nonzero(inside)[0]
+        o = {"start": float(t0), "end": float(t1)}
+        if spans is not None and at is not None:
+            e0, e1 = spans[i]
+            o["last_fix_s"] = float(t[e0]) if _is_fix(at, e0) else None
+            o["next_fix_s"] = float(t[e1 + 1]) if e1 + 1 < t.size else None
+        o.update({"position_p95_max_m": float(p95[inside].max()),
+                  "position_p95_end_m": float(p95[idx[-1]]), "t_end_s": float(t[idx[-1]])})
+        out.append(o)
     return out
+
+
+def _is_fix(at: AlongTruth, e: int) -> bool:
+    return any(r.sensor == "gnss" for r in at.readings[e])
+
+
+def quantile_interval(x: FloatArray, q: float = P95, confidence: float = CONFIDENCE
+                      ) -> tuple[float, float]:
+    """The distribution-free confidence interval of the ``q``-quantile from a sample: two of
+    its order statistics ``[x_(l), x_(u)]``, with ``l`` and ``u − 1`` the ``(1 ∓
+    confidence)/2`` quantiles of Binomial(n, q) — covering the quantile with at least
+    ``confidence`` whatever the distribution (Conover, *Practical Nonparametric Statistics*,
+    1999, §3.2).
+
+    Parameters
+    ----------
+    x : array_like, shape (n,)
+    q : float
+    confidence : float
+
+    Returns
+    -------
+    lo, hi : float
+        ``-inf`` or ``inf`` where the sample is too small for that side.
+    """
+    xs = np.sort(np.asarray(x, float).ravel())
+    n = xs.size
+    a = (1 - confidence) / 2
+    lo = int(binom.ppf(a, n, q))                 # P(B ≤ lo − 1) < a
+    hi = int(binom.ppf(1 - a, n, q)) + 1         # P(B ≤ hi − 1) ≥ 1 − a
+    return (float(xs[lo - 1]) if lo >= 1 else -np.inf,
+            float(xs[hi - 1]) if hi <= n else np.inf)
+
+
+def runs_within(errors: FloatArray, window: np.ndarray, tolerance: float
+                ) -> tuple[int, int]:
+    """How many Monte Carlo runs keep the error norm within ``tolerance`` at every epoch of
+    ``window``, of how many.
+
+    Parameters
+    ----------
+    errors : ndarray, shape (runs, K)
+        Error norms (m).
+    window : ndarray of bool, shape (K,)
+    tolerance : float
+
+    Returns
+    -------
+    inside, runs : int
+    """
+    return int(np.count_nonzero((errors[:, window] <= tolerance).all(axis=1))), errors.shape[0]
 
 
 # ----------------------------------------------------------------------------- Monte Carlo
@@ -236,18 +365,25 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
                  seed: int = 0, scheduler: str | None = None, kind: str = "increments",
                  covariance_step: float = 0.1, algorithm: str | None = None,
                  budget: bool = True, progress: bool = True, g: float = G0,
-                 measurements: list | None = None) -> dict:
+                 measurements: list | None = None, samples: int = SAMPLES) -> dict:
     """The aided verdict: does the tolerance hold through every GNSS outage of ``aiding``?
 
     By the covariance analysis of the filter along the true motion (the true error covariance,
     the model mismatch included); with ``runs`` by a Monte Carlo of the real filter too (its
     numbers then make the verdict, the covariance's stand beside them).
 
+    An outage runs from the last fix used before it to the next fix used after it; it is
+    **within the tolerance** when the probability that the position error (3-D norm) stays
+    within it at every epoch of the outage is at least 95 % (``p_within_whole_outage``: from
+    the covariance, :mod:`~imunav.analysis.crossing`; by Monte Carlo, the fraction of runs
+    inside at every epoch, with its Clopper–Pearson interval). **SUITABLE**: every outage
+    within the tolerance, and the p95 position error within it at every epoch of the motion.
+
     Parameters
     ----------
     motion, imu, aiding, rate
     tolerance : float
-        Position (m), 95th percentile of the error norm.
+        Position (m): the 3-D norm of the position error.
     duration : float, optional
     runs : int, optional
         Monte Carlo runs of the EKF.
@@ -261,6 +397,8 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
     budget : bool
         The error budget per source at the worst outage's end.
     progress : bool
+    samples : int
+        Paths of the error sampled per outage for its probability.
 
     Returns
     -------
@@ -268,7 +406,9 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
         The JSON of ``imunav assess --aiding``: ``method``, ``suitable``,
         ``max_p95_position_m``, ``final_p95_position_m``, ``envelope`` (``t``,
         ``position_p95_m``, ``filter_position_p95_m``), ``outages`` (``start``, ``end``,
-        ``position_p95_max_m``, with a Monte Carlo ``covariance_p95_max_m`` and the end values),
+        ``last_fix_s``, ``next_fix_s``, ``p_within_whole_outage`` (with ``…_se`` or, by Monte
+        Carlo, ``…_interval``), ``position_p95_max_m``, ``position_p95_end_m``, with a Monte
+        Carlo ``covariance_…`` beside), ``level``, ``tolerance_on`` (:data:`TOLERANCE_ON`),
         ``error_budget``, ``warnings``.
     """
     tolerance = check_positive(tolerance, "tolerance")
@@ -279,7 +419,8 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
                           covariance_step=covariance_step, algorithm=algorithm, g=g,
                           terms=budget, measurements=measurements)
     outs = file_outages(aiding)
-    t, truth, filt, per, att = outage_pass(at, outs)
+    t, truth, filt, per, att = outage_pass(at, outs, tolerance=tolerance, samples=samples,
+                                           seed=seed)
     warnings = list(at.warnings) + no_fix_warnings(at, outs)
     if att.max() > ATTITUDE_VALID:
         i = int(np.argmax(att))
@@ -289,7 +430,8 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
     r: dict = {"motion": motion.name, "earth": motion.frame, "imu": imu.name,
                "rate_hz": float(rate),
                "tolerance_m": tolerance, "aiding": list(aiding.sensors),
-               "method": "covariance", "runs": None, "seed": None,
+               "method": "covariance", "runs": None, "seed": None, "level": LEVEL,
+               "tolerance_on": TOLERANCE_ON,
                "max_p95_attitude_rad": float(att.max())}
     p95 = truth
     if runs is not None:
@@ -298,20 +440,46 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
                                scheduler=scheduler, progress=progress, g=g,
                                measurements=measurements)
         p95 = mc.p95()
-        mper = per_outage(t, p95, outs, outage_windows(at, outs, active_fixes(at, [outs])[0]))
-        for o, c in zip(mper, per, strict=True):
+        windows = outage_windows(at, outs, active_fixes(at, [outs])[0])
+        norms = np.linalg.norm(mc.position_error, axis=-1)
+        horiz = np.linalg.norm(mc.position_error[..., :2], axis=-1)
+        mper = per_outage(t, p95, outs, windows, outage_spans(at, outs,
+                                                             active_fixes(at, [outs])[0]), at)
+        used = [w for w in windows if w.any()]
+        for o, c, w in zip(mper, per, used, strict=True):
             o["covariance_p95_max_m"] = c["position_p95_max_m"]
             o["covariance_p95_end_m"] = c["position_p95_end_m"]
+            for key in ("p_within_whole_outage", "p_within_whole_outage_se",
+                        "p_within_whole_outage_horizontal"):
+                o["covariance_" + key] = c[key]
+            inside, n = runs_within(norms, w, tolerance)
+            lo, hi = runs_interval(inside, n)
+            ih, _ = runs_within(horiz, w, tolerance)
+            o["p_within_whole_outage"] = inside / n
+            o["p_within_whole_outage_interval"] = [lo, hi]
+            o["p_within_whole_outage_horizontal"] = ih / n
+            o["position_p95_end_interval_m"] = [          # None: too few runs for that side
+                float(v) if np.isfinite(v) else None
+                for v in quantile_interval(norms[:, np.nonzero(w)[0][-1]])]
+            o["within_tolerance"] = bool(inside / n >= LEVEL
+                                         and o["position_p95_max_m"] <= tolerance)
+            if lo < LEVEL <= hi:
+                warnings.append(
+                    f"{n} runs cannot settle the outage {o['start']:g}–{o['end']:g} s: the "
+                    f"fraction of runs within {tolerance:g} m at every epoch is between "
+                    f"{100 * lo:.1f} % and {100 * hi:.1f} % ({100 * CONFIDENCE:g} % "
+                    f"confidence, Clopper–Pearson), on both sides of {100 * LEVEL:g} %")
         per = mper
         r.update(method="montecarlo", runs=int(runs), seed=int(seed),
                  rejected_readings=mc.rejected)
-    for o in per:
-        o["within_tolerance"] = bool(o["position_p95_max_m"] <= tolerance)
+    else:
+        r["samples"] = int(samples)
     over = np.nonzero(p95 > tolerance)[0]
     worst = int(np.argmax(p95))
+    outages_ok = all(o["within_tolerance"] for o in per)
     r.update({
-        "suitable": bool(over.size == 0),
-        "outages_within_tolerance": bool(all(o["within_tolerance"] for o in per)),
+        "suitable": bool(over.size == 0 and outages_ok),
+        "outages_within_tolerance": bool(outages_ok),
         "time_p95_exceeds_s": float(t[over[0]]) if over.size else None,
         "max_p95_position_m": float(p95[worst]), "time_max_p95_s": float(t[worst]),
         "final_p95_position_m": float(p95[-1]),
@@ -336,6 +504,48 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
     return r
 
 
+def outage_line(o: dict, runs: int | None = None) -> str:
+    """One outage of the aided verdict as text: its fixes, its probability of staying within
+    the tolerance at every epoch (with its standard error, or its Monte Carlo interval), the
+    p95 at its end, and its verdict.
+
+    Parameters
+    ----------
+    o : dict
+        One of ``outages`` of :func:`assess_aided` (or of the design's).
+    runs : int, optional
+        The Monte Carlo's runs (its numbers in ``o``).
+
+    Returns
+    -------
+    str
+    """
+    nxt = "the end" if o.get("next_fix_s") is None else f"{o['next_fix_s']:g} s"
+    last = ("from the record's start" if o.get("last_fix_s") is None
+            else f"last fix {o['last_fix_s']:g} s")
+    head = f"  GNSS outage {o['start']:g}–{o['end']:g} s ({last}, next {nxt}): "
+    verdict = "within" if o["within_tolerance"] else "BEYOND"
+    if "p_within_whole_outage" not in o:
+        return (head + f"p95 up to {o['position_p95_max_m']:.3g} m — {verdict} the "
+                "tolerance")
+    p = o["p_within_whole_outage"]
+    if runs is None:
+        return (head + f"within the tolerance at every epoch with probability {100 * p:.1f} % "
+                f"(± {100 * o['p_within_whole_outage_se']:.2g} %, sampled), p95 "
+                f"{o['position_p95_end_m']:.3g} m at its end — {verdict} the tolerance")
+    lo, hi = o["p_within_whole_outage_interval"]
+    qlo, qhi = o["position_p95_end_interval_m"]
+    q = (f"{'…' if qlo is None else f'{qlo:.3g}'}–{'…' if qhi is None else f'{qhi:.3g}'} m, 95 % "
+         "order statistics" + ("; too few runs for a bound on each side"
+                               if qlo is None or qhi is None else ""))
+    return (head + f"{100 * p:.1f} % of {runs} runs within the tolerance at every epoch "
+            f"[{100 * lo:.1f}–{100 * hi:.1f} %, 95 % Clopper–Pearson] (covariance "
+            f"{100 * o['covariance_p_within_whole_outage']:.1f} %); p95 at its end "
+            f"{o['position_p95_end_m']:.3g} m [{q}] "
+            f"(covariance {o['covariance_p95_end_m']:.3g} m) — {verdict} the "
+            "tolerance")
+
+
 def format_aided_verdict(r: dict) -> str:
     """The aided verdict as text (what ``imunav assess --aiding`` prints).
 
@@ -350,21 +560,16 @@ def format_aided_verdict(r: dict) -> str:
     """
     how = ("covariance analysis of the filter" if r["method"] == "covariance" else
            f"Monte Carlo of the filter, {r['runs']} runs")
-    where = (" on the rotating WGS-84 Earth" if r.get("earth") == "wgs84" else
-             " (flat frame)")
-    lines = [f"Aided verdict for motion {r['motion']}{where}, IMU {r['imu']} at "
-             f"{r['rate_hz']:g} Hz "
-             f"with {', '.join(r['aiding'])} ({how}), tolerance {r['tolerance_m']:g} m "
-             "(95th percentile of the position error):",
+                 measurements: list | None = None, samples: int = SAMPLES) -> dict:
              f"  {'SUITABLE' if r['suitable'] else 'NOT SUITABLE'}: largest p95 "
              f"{r['max_p95_position_m']:.3g} m at t = {r['time_max_p95_s']:.4g} s, final "
-             f"{r['final_p95_position_m']:.3g} m."]
+             f"{r['final_p95_position_m']:.3g} m"
+             + (f"; through every GNSS outage (from the last fix used to the next) the error "
+                f"must stay within the tolerance at every epoch with a probability of at "
+                f"least {level:g} %." if r["outages"] else ".")]
+    runs = r["runs"] if r["method"] == "montecarlo" else None
     for o in r["outages"]:
-        extra = (f" (covariance {o['covariance_p95_max_m']:.3g} m)"
-                 if "covariance_p95_max_m" in o else "")
-        lines.append(f"  GNSS outage {o['start']:g}–{o['end']:g} s: p95 up to "
-                     f"{o['position_p95_max_m']:.3g} m{extra} — "
-                     + ("within" if o["within_tolerance"] else "BEYOND") + " the tolerance")
+        lines.append(outage_line(o, runs))
     if r.get("error_budget"):
         lines.append(f"  Error budget at t = {r['error_budget_at_s']:.4g} s (p95 of each "
                      "source alone):")

@@ -13,6 +13,7 @@ import numpy as np
 from imunav.analysis.aided_assessment import (
     ATTITUDE_VALID,
     P95,
+    TOLERANCE_ON,
     active_fixes,
     aided_covariance,
     aided_span,
@@ -20,12 +21,13 @@ from imunav.analysis.aided_assessment import (
     gnss_times,
     no_fix_warnings,
     outage_budget,
+    outage_line,
     outage_p95,
     outage_pass,
 )
 from imunav.analysis.aided_covariance import AlongTruth
 from imunav.analysis.gaussnorm import norm_quantile
-from imunav.analysis.outage import check_start, exceeds, find_outage
+from imunav.analysis.outage import ROW_KEYS, check_start, exceeds, find_outage
 from imunav.core.constants import G0
 from imunav.core.kernels import FloatArray
 from imunav.core.layout import DP
@@ -36,8 +38,16 @@ from imunav.sensors.models import ImuModel
 from imunav.sensors.presets import PRESETS
 from imunav.sensors.terms import TERMS, printed
 
-__all__ = ["GAIN_VALID", "TERM_RANGE", "common_scale", "design_aided", "format_outage_design",
-           "rank_presets", "term_limits"]
+__all__ = ["GAIN_VALID", "OUTAGE_KEYS", "TERM_RANGE", "common_scale", "design_aided",
+           "format_outage_design", "outage_answer", "rank_presets", "term_limits"]
+
+#: The keys of :func:`~imunav.analysis.outage.find_outage`'s answer that ``design --find
+#: outage`` carries at its top level.
+OUTAGE_KEYS = ("max_outage_s", "last_fix_s", "next_fix_s", "outage_start_s", "gnss_outage_s",
+               "p_within_whole_outage", "p_within_whole_outage_se",
+               "p_within_whole_outage_horizontal", "p_within_whole_outage_horizontal_se",
+               "level", "position_p95_end_m", "t_end_s", "position_p95_max_m",
+               "max_outage_p95_s", "limited_by_motion", "gnss_interval_s", "samples")
 
 
 def common_scale(at: AlongTruth, tolerance: float, outages, *, rtol: float = 0.01,
@@ -284,31 +294,36 @@ def rank_presets(motion: BaseMotion, aiding: AidingConfig, rate: float, toleranc
     -------
     list of dict
         ``{"name", "max_p95_position_m", "final_p95_position_m", "suitable", "warnings"}``
-        (the keys of :func:`~imunav.analysis.design.design`'s presets, ``max_p95…`` added)
-        and ``outside_linearisation`` (the attitude error's p95 beyond
-        :data:`ATTITUDE_VALID`: the real EKF may diverge where the covariance does not), with
-        ``find`` ``max_outage_s``, ``outage_start_s``, ``limited_by_motion``; sorted by the
-        largest p95, those outside the linearisation last.
+        (the keys of :func:`~imunav.analysis.design.design`'s presets, ``max_p95…`` added;
+        ``suitable``: the p95 within the tolerance at every epoch and every file outage
+        within it at every epoch with a probability of at least 95 %), the file outages'
+        ``p_within_whole_outages``, and ``outside_linearisation`` (the attitude error's p95
+        beyond :data:`ATTITUDE_VALID`: the real EKF may diverge where the covariance does
+        not), with ``find`` the keys of :data:`~imunav.analysis.outage.ROW_KEYS`
+        (``max_outage_s``, ``last_fix_s``, ``next_fix_s``, ``p_within_whole_outage``, …);
+        sorted by the largest p95, those outside the linearisation last.
     """
     outs = file_outages(aiding)
     rows = []
     for name in presets or list(PRESETS):
         imu = ImuModel.load(name)
         at = aided_covariance(motion, imu, aiding, rate, duration, **kw)
-        t, truth, _, _, att = outage_pass(at, outs)
+        t, truth, _, per, att = outage_pass(at, outs, tolerance=tolerance)
         warnings = list(at.warnings)
         if att.max() > ATTITUDE_VALID:
             warnings.append(f"the attitude error reaches a p95 of {att.max():.3g} rad: beyond "
                             "the filter's linearisation")
         row = {"name": name, "max_p95_position_m": float(truth.max()),
                "final_p95_position_m": float(truth[-1]),
-               "suitable": bool(truth.max() <= tolerance), "warnings": warnings,
+               "suitable": bool(truth.max() <= tolerance
+                                and all(o["within_tolerance"] for o in per)),
+               "p_within_whole_outages": [o["p_within_whole_outage"] for o in per],
+               "warnings": warnings,
                "outside_linearisation": bool(att.max() > ATTITUDE_VALID)}
         if find == "outage":
             f = find_outage(motion, imu, aiding, rate, tolerance, duration, start=start, at=at,
                             budget=False)
-            row.update({k: f[k] for k in ("max_outage_s", "outage_start_s",
-                                          "limited_by_motion")})
+            row.update({k: f[k] for k in ROW_KEYS})
         rows.append(row)
     # a preset beyond the linearisation last: its small p95 is not to be trusted
     rows.sort(key=lambda r: (r["outside_linearisation"], r["max_p95_position_m"]))
@@ -329,6 +344,11 @@ def design_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
     GNSS outages; the error budget at the worst time; and with ``find="outage"`` the longest
     bridgeable outage (:func:`find_outage`; top-level ``max_outage_s``, and each preset's).
 
+    The term limits and the common scale keep the p95 within the tolerance at every epoch; an
+    outage (the file's, each preset's, the one found) is within the tolerance when the
+    probability of staying within it at every epoch from its last fix to the next is at
+    least 95 % (``p_within_whole_outage``, :mod:`~imunav.analysis.crossing`).
+
     Parameters
     ----------
     motion, imu, aiding, rate, tolerance, duration
@@ -345,13 +365,15 @@ def design_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
     -------
     dict
         ``motion``, ``imu``, ``rate_hz``, ``tolerance_m``, ``aiding``, ``max_p95_position_m``,
-        ``time_max_p95_s``, ``outages``; ``terms`` (as :func:`term_limits`: ``limit_si``,
-        ``limit``, ``base`` — the keys of the unaided design's ``terms``); ``common_scale``;
-        ``presets`` (``name``, ``max_p95_position_m``, ``final_p95_position_m``,
-        ``suitable``, ``warnings``, with ``find`` ``max_outage_s``…), best first;
-        ``error_budget_at_s``, ``error_budget``; with ``find``: ``max_outage_s``,
-        ``outage_start_s``, ``position_p95_end_m``, ``limited_by_motion``,
-        ``gnss_interval_s``, ``outage_error_budget``; ``warnings``.
+        ``time_max_p95_s``, ``outages`` (as :func:`~imunav.analysis.aided_assessment.
+        assess_aided`'s, with ``p_within_whole_outage`` and ``within_tolerance``); ``terms``
+        (as :func:`term_limits`: ``limit_si``, ``limit``, ``base`` — the keys of the unaided
+        design's ``terms``); ``common_scale``; ``presets`` (``name``,
+        ``max_p95_position_m``, ``final_p95_position_m``, ``suitable``, ``warnings``, with
+        ``find`` ``max_outage_s``, ``last_fix_s``, ``next_fix_s``…), best first;
+        ``error_budget_at_s``, ``error_budget``; with ``find`` the keys of
+        :data:`OUTAGE_KEYS` (``max_outage_s == next_fix_s − last_fix_s``,
+        ``p_within_whole_outage``, …) and ``outage_error_budget``; ``warnings``.
 
     Raises
     ------
@@ -373,13 +395,12 @@ def design_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
         check_start(gnss_times(at), float(outage_start), float(at.t[-1]),
                      1.0 / aiding.gnss.rate)
     outs = file_outages(aiding)
-    t, truth, _, per = outage_p95(at, outs)
-    for o in per:
-        o["within_tolerance"] = bool(o["position_p95_max_m"] <= tolerance)
+    t, truth, _, per, _ = outage_pass(at, outs, tolerance=tolerance)
     worst = int(np.argmax(truth))
     r: dict = {"motion": motion.name, "earth": motion.frame, "imu": imu.name,
                "rate_hz": float(rate),
-               "tolerance_m": tolerance, "aiding": list(aiding.sensors),
+               "tolerance_m": tolerance, "tolerance_on": TOLERANCE_ON,
+               "aiding": list(aiding.sensors),
                "max_p95_position_m": float(truth[worst]), "time_max_p95_s": float(t[worst]),
                "outages": per,
                "terms": term_limits(at, tolerance, outs, retune=retune),
@@ -391,9 +412,7 @@ def design_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
     if find == "outage":
         f = find_outage(motion, imu, aiding, rate, tolerance, duration, start=outage_start,
                         at=at)
-        r.update({k: f[k] for k in ("max_outage_s", "outage_start_s", "position_p95_end_m",
-                                    "limited_by_motion", "gnss_interval_s")
-                  if k in f})
+        r.update({k: f[k] for k in OUTAGE_KEYS})
         r["outage_error_budget"] = f["error_budget"]
         r["outage_error_budget_at_s"] = f.get("error_budget_at_s")
         warnings += [w for w in f["warnings"] if w not in warnings]
@@ -403,6 +422,35 @@ def design_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
                                     covariance_step=covariance_step, algorithm=algorithm, g=g)
     r["warnings"] = warnings
     return r
+
+
+def outage_answer(r: dict) -> str:
+    """The longest outage (:func:`~imunav.analysis.outage.find_outage`'s answer, or the
+    design's top level) as one line of text.
+
+    Parameters
+    ----------
+    r : dict
+
+    Returns
+    -------
+    str
+    """
+    L, level = r["max_outage_s"], 100 * r.get("level", 0.95)
+    if r["limited_by_motion"]:
+        span = (f"from the last fix at {r['last_fix_s']:g} s to the end of the motion at "
+                f"{r['next_fix_s']:g} s — the whole rest of the motion: it bridges at least "
+                "this")
+    else:
+        span = f"from the last fix at {r['last_fix_s']:g} s to the next at {r['next_fix_s']:g} s"
+    lost = r.get("gnss_outage_s")
+    return (f"  Longest GNSS outage within the tolerance: max_outage_s = {L:g} s, {span}"
+            + (f" (fixes {lost[0]:g}–{lost[1]:g} s lost)" if lost else "")
+            + f"; within the tolerance at every epoch with probability "
+            f"{100 * r['p_within_whole_outage']:.1f} % (± "
+            f"{100 * r['p_within_whole_outage_se']:.2g} %, sampled; at least {level:g} % "
+            f"asked), p95 {r['position_p95_end_m']:.3g} m at its end; by the per-epoch p95 "
+            f"alone {r['max_outage_p95_s']:g} s.")
 
 
 def format_outage_design(r: dict) -> str:
@@ -420,16 +468,17 @@ def format_outage_design(r: dict) -> str:
     where = (" on the rotating WGS-84 Earth" if r.get("earth") == "wgs84" else
              " (flat frame)")
     lines = [f"Aided design for motion {r['motion']}{where}, IMU {r['imu']} at "
-             f"{r['rate_hz']:g} Hz "
-             f"with {', '.join(r['aiding'])}, tolerance {r['tolerance_m']:g} m (95th "
-             "percentile of the position error):"]
+             f"{r['rate_hz']:g} Hz with {', '.join(r['aiding'])}, tolerance "
+             f"{r['tolerance_m']:g} m on the 3-D position error:"]
     if "max_p95_position_m" in r:
         lines.append(f"  With the file's GNSS outages: largest p95 {r['max_p95_position_m']:.3g} "
                      f"m at t = {r['time_max_p95_s']:.4g} s.")
+        for o in r.get("outages", []):
+            lines.append(outage_line(o))
     if r.get("terms"):
         retuned = r.get("term_limits_filter", "retuned") == "retuned"
-        lines.append("  Largest value of each IMU term, the others at this IMU's, within the "
-                     "tolerance through the file's outages ("
+        lines.append("  Largest value of each IMU term, the others at this IMU's, with the "
+                     "p95 within the tolerance at every epoch through the file's outages ("
                      + ("the filter retuned to each value; 'filter kept': the limit with the "
                         "filter at this IMU's tuning):" if retuned
                         else "the filter kept at this IMU's tuning):"))
@@ -443,7 +492,7 @@ def format_outage_design(r: dict) -> str:
     if r.get("common_scale") is not None:
         cs = r["common_scale"]
         if cs > 0:
-            lines.append("  All IMU terms together: within the tolerance up to "
+            lines.append("  All IMU terms together: the p95 within the tolerance up to "
                          f"{cs:.3g} × this IMU's values"
                          + (" (it already meets it)." if cs >= 1 else
                             f" (its errors must shrink {1 / cs:.3g}-fold)."))
@@ -456,12 +505,7 @@ def format_outage_design(r: dict) -> str:
         for k, v in list(r["error_budget"].items())[:8]:
             lines.append(f"    {k:28s} {v:10.3g} m")
     if "max_outage_s" in r:
-        L = r["max_outage_s"]
-        lines.append(f"  Longest GNSS outage within the tolerance: max_outage_s = {L:g} s, "
-                     f"starting at {r['outage_start_s']:g} s (p95 "
-                     f"{r['position_p95_end_m']:.3g} m at its end)"
-                     + (" — the whole rest of the motion: it bridges at least this"
-                        if r["limited_by_motion"] else ""))
+        lines.append(outage_answer(r))
         budget = r.get("outage_error_budget", r.get("error_budget") if "outages" not in r
                        else None)
         if budget:
@@ -471,14 +515,16 @@ def format_outage_design(r: dict) -> str:
     if r.get("presets"):
         find = any("max_outage_s" in p for p in r["presets"])
         lines.append("  Presets, best first (largest 95th-percentile position error through the "
-                     "file's outages" + ("; the longest outage each bridges" if find else "")
-                     + "):")
+                     "file's outages; SUITABLE: within the tolerance at every epoch of each "
+                     "outage with a probability of at least 95 %"
+                     + ("; the longest outage each bridges, from its last fix to the next"
+                        if find else "") + "):")
         for p in r["presets"]:
             flag = "SUITABLE    " if p["suitable"] else "NOT SUITABLE"
             row = f"    {p['name']:10s} {flag} {p['max_p95_position_m']:10.3g} m"
             if find:
-                row += (f"   max_outage_s {p['max_outage_s']:5g} s from "
-                        f"{p['outage_start_s']:g} s"
+                row += (f"   max_outage_s {p['max_outage_s']:5g} s ({p['last_fix_s']:g}–"
+                        f"{p['next_fix_s']:g} s, {100 * p['p_within_whole_outage']:.1f} %)"
                         + (" (the rest of the motion)" if p["limited_by_motion"] else ""))
             if p.get("outside_linearisation"):
                 row += " (outside the linear model: check with Monte Carlo)"

@@ -86,7 +86,7 @@ from imunav.analysis.rotating_earth import (
 )
 from imunav.motion import EarthMotion
 from imunav.motion.catalog import spinning_cone
-from imunav.plotting import algorithm_id, figure, name, series_style, style, use_book_style
+from imunav.plotting import algorithm_id, figure, name, series_style, thing_style, use_book_style
 from imunav.sensors import ImuModel
 from imunav.sensors.presets import PRESETS
 from imunav.strapdown.registry import ALGORITHMS
@@ -171,7 +171,7 @@ print(f"against the closed forms: {np.abs(w - w_closed).max():.1g} rad/s, "
 b = 9.80665e-3                                    # 1 mg
 eq = EarthMotion(Motion(duration=3 * 3600.0), (0.0, 0.0, 0.0))
 resp = bias_response(eq, 0.2, 3 * 3600.0, accel=[b, 0, 0], vertical="hold")
-sig = simulate_imu(eq, 1.0, output="increments")
+sig = simulate_imu(eq, 1.0, kind="increments")
 biased = ImuSignals(sig.t, sig.gyro, sig.accel + np.array([b, 0, 0]) / sig.rate, "increments",
                     sig.rate)
 
@@ -418,7 +418,7 @@ CASES = [("rates", "first_order", MOVING, (50.0, 100.0, 200.0)),
 
 def attitude_error(local, kind, algorithm, rate, earth):
     motion = EarthMotion(local, origin55) if earth == "wgs84" else local
-    sig = simulate_imu(motion, rate, output=kind)
+    sig = simulate_imu(motion, rate, kind=kind)
     nav = navigate(sig, *motion.states([sig.t0]).initial(), algorithm=algorithm, earth=earth)
     return nav_errors(nav, motion).attitude.max()
 
@@ -441,7 +441,7 @@ for o in orders:
 fig, ax = figure(1, 1, height=3.0)
 for o in orders:
     ax.loglog(1 / np.array(o["rates"]), np.degrees(o["errors"]), marker="o", ms=4,
-              **style(o["id"]), label=name(o["id"]) + (" (cone)" if o["motion"] != MOVING_NAME
+              **thing_style(o["id"]), label=name(o["id"]) + (" (cone)" if o["motion"] != MOVING_NAME
                                                        else ""))
 ax.set(xlabel="sample step Δt (s)", ylabel="largest attitude error (°)",
        title="on the Earth, 55° N: attitude error against the step")

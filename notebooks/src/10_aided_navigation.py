@@ -60,7 +60,7 @@ from imunav.estimation.filters import run_filter
 from imunav.estimation.smoother import rts, smooth_history
 from imunav.io.files import load_motion
 from imunav.motion import EarthMotion, Motion
-from imunav.plotting import colour, figure, name, series_style, style, styled, use_book_style
+from imunav.plotting import colour, figure, name, series_style, thing_style, styled, use_book_style
 from imunav.sensors.aids import AidingConfig, simulate_aiding
 from imunav.sensors.models import ImuModel
 from imunav.sensors.presets import PRESETS
@@ -404,7 +404,7 @@ def run_drive(preset="BMI088", aids=None, gnss=None, seed=1, smooth=True):
     aids = {"gnss": GNSS if gnss is None else gnss, **(aids or {})}
     cfg = AidingConfig.from_dict(aids)
     imu = ImuModel.load(preset)
-    sig = simulate_imu(drive, RATE, DURATION, output="increments", imu=imu, seed=seed)
+    sig = simulate_imu(drive, RATE, DURATION, kind="increments", imu=imu, seed=seed)
     data = simulate_aiding(drive, cfg, DURATION, seed=seed, imu_rate=RATE)
     return run_filter(sig, *x0, cfg, data, imu=imu, smooth=smooth)
 
@@ -452,19 +452,19 @@ def drive_figure(res, title=None):
     fig, (a, b) = figure(1, 2, height=3.4)
     a.plot(truth[:, 1], truth[:, 0], **styled("truth"), lw=2.5)
     a.plot(res.states.position[:, 1], res.states.position[:, 0],
-           **style("filter"), label="filter (overlaps the truth with GNSS)")
+           **thing_style("filter"), label="filter (overlaps the truth with GNSS)")
     a.plot(res.smoothed.states.position[:, 1], res.smoothed.states.position[:, 0],
-           **style("smoother", ls=":"), label="smoother, RTS (overlaps the truth)")
+           **thing_style("smoother", ls=":"), label="smoother, RTS (overlaps the truth)")
     for t0, t1 in OUTAGES:
         m = (res.t >= t0) & (res.t <= t1)
         a.plot(truth[m, 1], truth[m, 0], color="0.6", lw=6, alpha=0.5, zorder=0)
     a.set(xlabel="east (m)", ylabel="north (m)", aspect="equal", title="the route (outages grey)")
     te, bound = p95_bound(res)
     shade_outages(b)
-    b.plot(res.t, np.linalg.norm(res.states.position - truth, axis=1), **style("filter"))
+    b.plot(res.t, np.linalg.norm(res.states.position - truth, axis=1), **thing_style("filter"))
     b.plot(res.t, np.linalg.norm(res.smoothed.states.position - truth, axis=1),
-           **style("smoother"))
-    b.plot(te, bound, **style("covariance"), label="filter's own p95 bound")
+           **thing_style("smoother"))
+    b.plot(te, bound, **thing_style("covariance"), label="filter's own p95 bound")
     b.set(xlabel="time (s)", ylabel="position error (m)", yscale="log", ylim=(0.05, None),
           title=title or "position error against the truth")
     fig.legend(loc="outside lower center", ncols=3)
@@ -605,7 +605,7 @@ ax.axvspan(OUTAGES[1][0], OUTAGES[1][0] + L, color="0.9", zorder=0, label="GNSS 
 for i, (f, (tp, p95)) in enumerate(p95_frames.items()):
     ax.plot(tp, p95, color=series_style(i)["color"], lw=3 if i == 0 else 1.2,
             label=f"{f} (coincide)" if i else f)
-ax.axhline(TOLERANCE, **style("tolerance"), label="tolerance")
+ax.axhline(TOLERANCE, **thing_style("tolerance"), label="tolerance")
 ax.set(xlabel="time (s)", ylabel="p95 position error (m)", ylim=(0, None),
        title="tactical-grade IMU, GNSS + NHC: covariance analysis")
 fig.legend(loc="outside lower center", ncols=4)
@@ -638,7 +638,7 @@ display(Markdown(
 # %%
 WALK, WALK_DURATION, _ = load_motion("../examples/walk.toml")
 # the walk's ideal increments, simulated once: each run below adds its own IMU's errors to them
-IDEAL = simulate_imu(WALK, 100.0, WALK_DURATION, output="increments")
+IDEAL = simulate_imu(WALK, 100.0, WALK_DURATION, kind="increments")
 walks = {d: zupt_walk(WALK, "ADIS16470", 100.0, detector=d, seed=3, ideal=IDEAL)
          for d in ("truth", "shoe")}
 print(f"{WALK!r}: {walks['truth'].distance:.0f} m in {WALK_DURATION:.0f} s, "
@@ -659,13 +659,13 @@ tr = WALK.position(walks["truth"].result.t)
 a.plot(tr[:, 1], tr[:, 0], **styled("truth"), lw=3)
 for d, ls in (("truth", "-"), ("shoe", "--")):
     p = walks[d].result.states.position
-    a.plot(p[:, 1], p[:, 0], **style("filter" if d == "truth" else "SHOE", ls=ls),
+    a.plot(p[:, 1], p[:, 0], **thing_style("filter" if d == "truth" else "SHOE", ls=ls),
            label=f"ZUPT, {'true stances' if d == 'truth' else 'SHOE'} (overlaps the truth)")
 a.set(xlabel="east (m)", ylabel="north (m)", aspect="equal", title="the walk, ADIS16470")
 for d in ("truth", "shoe"):
     w = walks[d]
     b.plot(np.arange(w.stride_error.size), 100 * w.stride_error,
-           **style("filter" if d == "truth" else "SHOE"))
+           **thing_style("filter" if d == "truth" else "SHOE"))
 b.set(xlabel="stride", ylabel="horizontal error (cm)", title="drift, stride by stride")
 fig.legend(loc="outside lower center", ncols=3)
 plt.show()
@@ -682,12 +682,12 @@ for s0, s1 in walks["truth"].stances:
         ax.axvspan(max(s0, t0), min(s1, t1), color="0.85", zorder=0,
                    label=name("true stance") if first else None)
         first = False
-ax.semilogy(w.t[sel], w.statistic[sel], color=style("SHOE")["color"], label="SHOE statistic")
-ax.axhline(3e4, **style("tolerance"), label="threshold (stance below)")
+ax.semilogy(w.t[sel], w.statistic[sel], color=thing_style("SHOE")["color"], label="SHOE statistic")
+ax.axhline(3e4, **thing_style("tolerance"), label="threshold (stance below)")
 first = True
 for s0, s1 in w.stances:
     if s1 >= t0 and s0 <= t1:
-        ax.plot([max(s0, t0), min(s1, t1)], [1.5e5, 1.5e5], color=style("SHOE")["color"], lw=4,
+        ax.plot([max(s0, t0), min(s1, t1)], [1.5e5, 1.5e5], color=thing_style("SHOE")["color"], lw=4,
                 solid_capstyle="butt", label="detected stance" if first else None)
         first = False
 ax.set(xlabel="time (s)", ylabel="SHOE statistic", title="the detector over three strides")
@@ -789,7 +789,7 @@ for ax, (label, mc) in zip(axs, mcs.items(), strict=True):
     ax.axhspan(lo, hi, color=colour("montecarlo"), alpha=0.25, label="95 % band")
     ax.axhline(3, color="black", lw=0.8, ls="--", zorder=3, label="expectation, 3")
     for k, c in (("position", "axis.x"), ("velocity", "axis.y"), ("attitude", "axis.z")):
-        ax.plot(mc.t, mc.filter[k].mean(axis=0), color=style(c)["color"], lw=1, label=k)
+        ax.plot(mc.t, mc.filter[k].mean(axis=0), color=thing_style(c)["color"], lw=1, label=k)
     ax.set(xlabel="time (s)", title=label)
 axs[0].set_ylabel(f"average NEES, {RUNS} runs")
 handles, labels = axs[0].get_legend_handles_labels()
