@@ -560,7 +560,12 @@ def format_aided_verdict(r: dict) -> str:
     """
     how = ("covariance analysis of the filter" if r["method"] == "covariance" else
            f"Monte Carlo of the filter, {r['runs']} runs")
-                 measurements: list | None = None, samples: int = SAMPLES) -> dict:
+    level = 100 * r.get("level", LEVEL)
+    where = (" on the rotating WGS-84 Earth" if r.get("earth") == "wgs84" else
+             " (flat frame)")
+    lines = [f"Aided verdict for motion {r['motion']}{where}, IMU {r['imu']} at "
+             f"{r['rate_hz']:g} Hz with {', '.join(r['aiding'])} ({how}), tolerance "
+             f"{r['tolerance_m']:g} m on the 3-D position error:",
              f"  {'SUITABLE' if r['suitable'] else 'NOT SUITABLE'}: largest p95 "
              f"{r['max_p95_position_m']:.3g} m at t = {r['time_max_p95_s']:.4g} s, final "
              f"{r['final_p95_position_m']:.3g} m"

@@ -14,7 +14,6 @@ from __future__ import annotations
 import numpy as np
 from scipy.stats import beta
 
-from imunav.analysis.aided_assessment import assess_aided
 from imunav.analysis.covariance import (
     ENVELOPE_POINTS,
     LINEAR_LIMIT,
@@ -575,6 +574,8 @@ def _assess_aided(motion, imu, rate, runs, tolerance, seed, duration, kind, budg
                           argument="runs")
     if runs is None and scheduler is not None:
         raise ImunavError("scheduler applies to a Monte Carlo (runs) only", argument="scheduler")
+    from imunav.analysis.aided_assessment import assess_aided   # it imports this module
+
     return assess_aided(motion, imu, aiding, rate, tolerance, duration, runs=runs, seed=seed,
                         scheduler=scheduler, kind=kind, covariance_step=covariance_step,
                         progress=progress)
