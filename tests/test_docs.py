@@ -182,3 +182,142 @@ def test_describe_adds_what_the_help_leaves_unsaid():
     assert clidoc.notes(["--a: one", "  two", "", "B: three"]) == {"--a": "one two", "B": "three"}
     with pytest.raises(ValueError):
         clidoc.notes(["no colon here"])
+
+
+# ------------------------------------------------------------ the AIDING.toml key tables
+
+aidkeys = pytest.importorskip("aidkeys")
+FORMATS_PAGE = ROOT / "docs" / "formats.md"
+
+
+def test_formats_page_holds_the_generated_aiding_key_tables():
+    text = FORMATS_PAGE.read_text(encoding="utf-8")
+    assert text.count(aidkeys.BEGIN) == 1 and text.count(aidkeys.END) == 1
+    assert aidkeys.page_block(text) == aidkeys.markdown(), \
+        "docs/formats.md is stale: run .venv/bin/python docs/aidkeys.py --write"
+
+
+def test_every_table_and_key_is_on_the_page():
+    from imunav.sensors.aids.config import SECTIONS
+    block = aidkeys.page_block(FORMATS_PAGE.read_text(encoding="utf-8"))
+    for table, config in SECTIONS.items():
+        part = block.split(f"**`[{table}]`**")[1].split("**`[")[0]
+        assert [f"`{k}`" for k in config.KEYS] == re.findall(r"^\| (`\w+`) \|", part, re.M), table
+
+
+def test_value_range_words():
+    from imunav.sensors.aids.keys import Key
+    assert aidkeys.value_range(Key("x", "m", "d", hi=5.0), "t") == "(0, 5]"
+    assert aidkeys.value_range(Key("x", "m", "d", positive=False, hi=1e4), "t") == "[0, 10000]"
+    assert aidkeys.value_range(Key("x", "", "d", hi=1 - 1e-12), "t") == "(0, 1)"
+    assert aidkeys.value_range(Key("x", "", "d"), "t") == "> 0"
+    assert aidkeys.value_range(Key("x", "", "d", kind="integer", hi=6), "t") == \
+        "a whole number, 1 … 6"
+    assert aidkeys.value_range(Key("x", "", "d", kind="choice", choices=("a", "b")), "t") == \
+        '`"a"` or `"b"`'
+    assert aidkeys.default(Key("x", "", "d", default=(0.0, 0.0, 0.0))) == "`[0, 0, 0]`"
+    assert aidkeys.default(Key("x", "", "d", required=True)) == "required"
+
+
+def _base(table, config):
+    """A table that reads: every required key at a value inside its range (and what several
+    keys together need)."""
+    d = {}
+    for k in config.FIELDS:
+        if k.required:
+            d[k.name] = min(1.0, k.hi) if k.hi else 1.0
+    if table == "gnss":
+        d.update(position_sigma=1.0, correlation_time=10.0)
+    return d
+
+
+def _reads(config, table, d):
+    from imunav.core.validation import ImunavError
+    try:
+        config.from_dict(d)
+        return True
+    except ImunavError as e:
+        assert f"[{table}]" in str(e), e           # the one line names the table
+        return False
+
+
+def _probes(key):
+    """(value, accepted?) pairs at the bounds the page states for ``key``."""
+    hi = key.hi
+    if key.kind == "choice":
+        return [(c, True) for c in key.choices] + [("nope", False)]
+    if key.kind == "integer":
+        return [(1, True), (0, False), (1.5, False)] + ([(int(hi), True), (int(hi) + 1, False)]
+                                                        if hi else [])
+    if key.kind == "vector":
+        return [([hi, -hi, 0.0], True), ([hi * 1.01, 0.0, 0.0], False), ([1.0, 2.0], False)]
+    if key.kind == "intervals":
+        return [([[0.0, 1.0], [2.0, 3.0]], True), ([[2.0, 3.0], [0.0, 1.0]], False),
+                ([[1.0, 0.0]], False), ([0.0, 1.0], False)]
+    if key.kind == "path":
+        return [("x.pos", True), ("", False)]
+    if key.kind == "delay":
+        return [(10.0, True), (-10.0, True), ("auto", True), (10.01, False)]
+    out = [(float("nan"), False), ("1", False) if key.kind != "angle" else ("2 deg", True)]
+    if key.positive:
+        out += [(0.0, False), ((hi or 1.0) * 1e-3, True)]
+    else:
+        out += [(0.0, True), (-1e-3, False)]
+    if hi is not None:
+        shown = aidkeys._number(hi)
+        above = float(shown) if shown != "π" and float(shown) > hi else hi * (1 + 1e-6) + 1e-9
+        out += [(hi, True), (above, False)]
+    return out
+
+
+@pytest.mark.parametrize("table", ["gnss", "baro", "heading", "nhc", "zupt", "odometer",
+                                   "initial", "mounting"])
+def test_stated_ranges_are_what_the_reader_enforces(table):
+    from imunav.sensors.aids.config import SECTIONS
+    config = SECTIONS[table]
+    for key in config.FIELDS:
+        if (table, key.name) in aidkeys.READ_BY_HAND:
+            continue
+        for value, ok in _probes(key):
+            d = {**_base(table, config), key.name: value}
+            assert _reads(config, table, d) is ok, (table, key.name, value, ok)
+
+
+def test_keys_read_by_hand_are_still_read_by_hand_and_stated_rightly():
+    from imunav.core.validation import ImunavError
+    from imunav.sensors.aids.config import SECTIONS
+    assert aidkeys.READ_BY_HAND == {("mounting", "time_offset"): "any sign, within ±1e6"}
+    config = SECTIONS["mounting"]
+    key = next(k for k in config.FIELDS if k.name == "time_offset")
+    with pytest.raises(ImunavError):        # its Key alone would refuse a negative offset …
+        key.read({"time_offset": -0.2}, "mounting")
+    for value, ok in ((-0.2, True), (-1e6, True), (1e6, True), (1.1e6, False), (-1.1e6, False)):
+        assert _reads(config, "mounting", {"time_offset": value}) is ok, value   # … the table not
+
+
+def test_the_aiding_files_table_lists_every_aid_file():
+    from imunav.sensors.aids import AIDS
+    text = FORMATS_PAGE.read_text(encoding="utf-8")
+    section = text.split("(aiding-files)=")[1].split("(rtklib-files)=")[0]
+    rows = [line for line in section.splitlines() if line.startswith("| `")]
+    for spec in AIDS.values():
+        mine = " ".join(r for r in rows if r.startswith(f"| `{spec.file}`"))
+        assert mine, f"docs/formats.md: no row for {spec.file}"
+        for frame, headers in spec.headers.items():
+            for h in headers:
+                assert f"`{','.join(h)}`" in mine, (spec.file, frame, h)
+
+
+# ------------------------------------------------- the guide's worked example of an own aid
+
+def test_the_own_aid_example_prints_what_it_shows():
+    text = (ROOT / "docs" / "guide_aided.md").read_text(encoding="utf-8")
+    section = text.split("(write-your-own-aid)=")[1].split("\n## ")[1]
+    blocks = _blocks(section)
+    (lang, code, _), (_, shown, _) = blocks[0], blocks[1]
+    assert lang == "python" and "class WheelSpeed(Measurement)" in code
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONWARNINGS"}
+    run = subprocess.run([sys.executable, "-W", "error::DeprecationWarning", "-c", code],
+                         cwd=ROOT, env=env, capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout == shown

@@ -15,7 +15,8 @@
 # - notebooks 07 and 08, real data: what recorded IMUs drift, and motion from captured poses;
 # - notebook 09, the rotating WGS-84 Earth;
 # - notebook 10, aided navigation: GNSS, zero-velocity updates, the Kalman filter and smoother;
-# - notebook 11 (coming), real recordings with a truth to navigate against;
+# - notebook 11, real recordings with truth: a car's GNSS outages against withheld RTK fixes,
+#   foot-mounted walks against motion capture;
 # - notebooks 01, 02 and 04, three papers reproduced claim by claim (Marusenkova; Plaksiy and
 #   Homozkova; Dickson and Rae).
 #
