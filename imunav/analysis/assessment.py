@@ -574,7 +574,7 @@ def _assess_aided(motion, imu, rate, runs, tolerance, seed, duration, kind, budg
                           argument="runs")
     if runs is None and scheduler is not None:
         raise ImunavError("scheduler applies to a Monte Carlo (runs) only", argument="scheduler")
-    from imunav.analysis.aided_assessment import assess_aided   # it imports this module
+    from imunav.analysis.aided_assessment import assess_aided  # it imports this module
 
     return assess_aided(motion, imu, aiding, rate, tolerance, duration, runs=runs, seed=seed,
                         scheduler=scheduler, kind=kind, covariance_step=covariance_step,

@@ -60,7 +60,7 @@ from imunav.estimation.filters import run_filter
 from imunav.estimation.smoother import rts, smooth_history
 from imunav.io.files import load_motion
 from imunav.motion import EarthMotion, Motion
-from imunav.plotting import colour, figure, name, series_style, thing_style, styled, use_book_style
+from imunav.plotting import colour, figure, name, series_style, styled, thing_style, use_book_style
 from imunav.sensors.aids import AidingConfig, simulate_aiding
 from imunav.sensors.models import ImuModel
 from imunav.sensors.presets import PRESETS
