@@ -792,7 +792,7 @@ def _assess_aided(args, model, motion, duration, out) -> int:
                 raise ImunavError(f"{opt} applies to a Monte Carlo (--runs) only")
     r = assess_aided(motion, model, aiding, args.rate, args.tolerance, duration,
                      runs=args.runs, seed=args.seed or 0, scheduler=args.scheduler,
-                     covariance_step=args.covariance_step)
+                     covariance_step=args.covariance_step, method=args.method)
     print(format_aided_verdict(r), file=_report(out))
     if args.json:
         write_json(r, out["--json"])

@@ -22,6 +22,7 @@ from imunav.analysis import aided_design as D
 from imunav.analysis import aided_montecarlo as MC
 from imunav.analysis import crossing as X
 from imunav.analysis import outage as O
+from imunav.core.validation import ImunavError
 from imunav.analysis.assessment import runs_interval
 from imunav.analysis.gaussnorm import norm_cdf
 from imunav.estimation.error_model import DP
@@ -62,17 +63,19 @@ def test_covariance_matches_the_filter_monte_carlo_at_the_outage_end(drive):
     (o,) = per
     assert o["t_end_s"] == pytest.approx(35.9)          # one covariance step before the fix at 36
     assert (o["last_fix_s"], o["next_fix_s"]) == (19.0, 36.0)
-    # 400 runs: the p95's 95 % interval (order statistics 371 and 389) is inside ±15 %, the
-    # agreement claimed (100 runs reach the largest run: no upper bound; 200 still reach +27 %
-    # mid-outage, where the distribution has a long tail)
-    mc = MC.aided_monte_carlo(drive, imu, aiding, RATE, DURATION, 400, seed=3,
+    # 600 runs: the covariance's p95 must lie inside the Monte Carlo p95's 95 % interval
+    # (order statistics 559 and 581), and that interval must be narrow enough (within ±25 %
+    # of the p95) for the test to tell a covariance off by more than that. The error at the
+    # outage's end has a long upper tail: 400 runs left the interval at −21 %/+7 %, 600 at
+    # −6 %/+19 % (seed 3), so ±15 % is not a claim these runs can test.
+    mc = MC.aided_monte_carlo(drive, imu, aiding, RATE, DURATION, 600, seed=3,
                              times=np.array([27.0, o["t_end_s"]]), progress=False)
     norms = np.linalg.norm(mc.position_error, axis=-1)
     cov_mid = truth[np.searchsorted(t, 27.0 - 1e-9)]
     for k, cov in ((0, cov_mid), (1, o["position_p95_end_m"])):
         p95, (lo, hi) = _p95_and_interval(norms[:, k])
-        assert 0.85 * p95 < lo <= p95 <= hi < 1.15 * p95, (p95, lo, hi)
-        assert abs(p95 / cov - 1) < 0.15, (p95, cov)
+        assert 0.75 * p95 < lo <= p95 <= hi < 1.25 * p95, (p95, lo, hi)
+        assert lo <= cov <= hi, (cov, p95, lo, hi)
     # the outage matters: the error at its end is many times that with GNSS
     assert o["position_p95_end_m"] > 5 * truth[np.searchsorted(t, 19.0)]
 
@@ -324,3 +327,28 @@ def test_outage_answers_without_bias_instability_say_so(drive):
                           budget=False, progress=False)
     assert not any("bias instability" in w for w in adis["warnings"])
 
+
+
+def test_no_aided_suitable_outside_the_linearisation(drive):
+    """issue 37 item 2: the MPU-6050's 20 °/s turn-on gyro bias turns the p95 attitude error far
+    beyond ATTITUDE_VALID on the drive; the covariance then has no word on the verdict, whatever
+    its position numbers say (1e6 m), on every outage and in the outage search too; method
+    "auto" answers with the Monte Carlo of the filter. The BMI088 stays linear and SUITABLE."""
+    aiding = _aiding()
+    mpu = ImuModel.load("MPU-6050")
+    r = A.assess_aided(drive, mpu, aiding, RATE, 1e6, DURATION, budget=False, progress=False)
+    assert r["max_p95_attitude_rad"] > A.ATTITUDE_VALID and not r["linear"]
+    assert r["outside_linearisation"] and r["suitable"] is False
+    assert "NOT SUITABLE on the covariance's word" in A.format_aided_verdict(r)
+    assert all("p95_attitude_max_rad" in o and "linear" in o for o in r["outages"])
+    a = A.assess_aided(drive, mpu, aiding, RATE, 1e6, DURATION, runs=12, method="auto",
+                       budget=False, progress=False)
+    assert a["method_chosen"] == "montecarlo" and a["runs"] == 12
+    assert "linear range" in a["warnings"][0] and not a["outside_linearisation"]
+    f = O.find_outage(drive, mpu, aiding, RATE, 1e6, DURATION, budget=False, starts=3)
+    assert f["outside_linearisation"] and any("linearisation" in w for w in f["warnings"])
+    ok = A.assess_aided(drive, ImuModel.load("BMI088"), aiding, RATE, 1e6, DURATION,
+                        method="auto", budget=False, progress=False)
+    assert ok["linear"] and ok["suitable"] and ok["method_chosen"] == "covariance"
+    with pytest.raises(ImunavError, match="runs"):
+        A.assess_aided(drive, mpu, aiding, RATE, 1e6, DURATION, method="montecarlo")

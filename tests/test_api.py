@@ -108,7 +108,7 @@ def test_assess_passes_the_aided_options_through(monkeypatch, drive):
                   scheduler="tcp://x:1", progress=False, aiding=aiding, covariance_step=0.2)
     assert seen == {"motion": drive, "rate": 20.0, "tolerance": 5.0, "duration": 10.0,
                     "runs": 30, "seed": 4, "scheduler": "tcp://x:1", "kind": "rates",
-                    "covariance_step": 0.2, "progress": False}
+                    "covariance_step": 0.2, "progress": False, "method": "montecarlo"}
 
 
 @pytest.mark.parametrize("options, argument", [

@@ -31,10 +31,10 @@ from scipy.stats import binom
 
 from imunav.analysis.aided_covariance import AlongTruth
 from imunav.analysis.aided_montecarlo import aided_monte_carlo
-from imunav.analysis.assessment import CONFIDENCE, runs_interval
 from imunav.analysis.covariance import ENVELOPE_POINTS, envelope_index
 from imunav.analysis.crossing import LEVEL, SAMPLES, walk
 from imunav.analysis.gaussnorm import norm_quantile
+from imunav.analysis.montecarlo import AUTO_RUNS, CONFIDENCE, runs_interval
 from imunav.core.constants import G0
 from imunav.core.kernels import FloatArray
 from imunav.core.layout import DP, PHI
@@ -365,7 +365,8 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
                  seed: int = 0, scheduler: str | None = None, kind: str = "increments",
                  covariance_step: float = 0.1, algorithm: str | None = None,
                  budget: bool = True, progress: bool = True, g: float = G0,
-                 measurements: list | None = None, samples: int = SAMPLES) -> dict:
+                 measurements: list | None = None, samples: int = SAMPLES,
+                 method: str | None = None) -> dict:
     """The aided verdict: does the tolerance hold through every GNSS outage of ``aiding``?
 
     By the covariance analysis of the filter along the true motion (the true error covariance,
@@ -399,6 +400,13 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
     progress : bool
     samples : int
         Paths of the error sampled per outage for its probability.
+    method : {"covariance", "montecarlo", "auto"}, optional
+        Default: ``"montecarlo"`` with ``runs``, else ``"covariance"``. The covariance's own
+        linearisation check (the p95 attitude error within :data:`ATTITUDE_VALID` at every
+        epoch, reported per outage) fails → its verdict is NOT SUITABLE on its word
+        (``outside_linearisation``); ``"auto"`` then runs the Monte Carlo of the filter
+        (``runs``, default :data:`~imunav.analysis.assessment.AUTO_RUNS`) and its verdict is
+        the answer (``method_chosen``).
 
     Returns
     -------
@@ -409,9 +417,28 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
         ``last_fix_s``, ``next_fix_s``, ``p_within_whole_outage`` (with ``…_se`` or, by Monte
         Carlo, ``…_interval``), ``position_p95_max_m``, ``position_p95_end_m``, with a Monte
         Carlo ``covariance_…`` beside), ``level``, ``tolerance_on`` (:data:`TOLERANCE_ON`),
-        ``error_budget``, ``warnings``.
+        ``error_budget``, ``warnings``; ``linear`` and ``outside_linearisation`` (the
+        covariance's own check, and its verdict withheld), each outage's
+        ``p95_attitude_max_rad`` and ``linear``; ``method_chosen`` with ``method="auto"``.
+
+    Raises
+    ------
+    ImunavError
+        For a non-positive tolerance, an unknown ``method``, ``runs`` with the covariance
+        method or none with the Monte Carlo, GNSS outages outside the record.
     """
     tolerance = check_positive(tolerance, "tolerance")
+    method = method or ("montecarlo" if runs is not None else "covariance")
+    if method not in ("covariance", "montecarlo", "auto"):
+        raise ImunavError(f"method must be covariance, montecarlo or auto, got {method!r}",
+                          argument="method")
+    if method == "covariance" and runs is not None:
+        raise ImunavError("runs applies to the Monte Carlo method only", argument="runs")
+    if method == "montecarlo" and runs is None:
+        raise ImunavError("runs is required for the Monte Carlo method", argument="runs")
+    auto_runs = None
+    if method == "auto":
+        auto_runs, runs = runs, None
     duration = aided_span(motion, rate, duration)
     if aiding.gnss is not None:
         aiding.gnss.check_within(0.0, duration)
@@ -422,17 +449,33 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
     t, truth, filt, per, att = outage_pass(at, outs, tolerance=tolerance, samples=samples,
                                            seed=seed)
     warnings = list(at.warnings) + no_fix_warnings(at, outs)
-    if att.max() > ATTITUDE_VALID:
+    linear = bool(att.max() <= ATTITUDE_VALID)
+    if method == "auto" and not linear:
+        n = auto_runs or AUTO_RUNS
+        r = assess_aided(motion, imu, aiding, rate, tolerance, duration, runs=n, seed=seed,
+                         scheduler=scheduler, kind=kind, covariance_step=covariance_step,
+                         algorithm=algorithm, budget=budget, progress=progress, g=g,
+                         measurements=measurements, samples=samples)
+        r["method_chosen"] = "montecarlo"
+        r["warnings"].insert(0, f"the covariance analysis's p95 attitude error, {att.max():.3g} "
+                                f"rad, is beyond its linear range ({ATTITUDE_VALID:g} rad): the "
+                                f"verdict is the Monte Carlo's ({n} runs)")
+        return r
+    if not linear:
         i = int(np.argmax(att))
         warnings.append(f"the attitude error reaches a p95 of {att[i]:.3g} rad at t = "
                         f"{t[i]:.4g} s: beyond the filter's linearisation (the real EKF may "
-                        "diverge where the covariance does not); check with --runs")
+                        "diverge where the covariance does not)"
+                        + ("" if runs is not None else
+                           "; check with --runs N or --method auto"))
     r: dict = {"motion": motion.name, "earth": motion.frame, "imu": imu.name,
                "rate_hz": float(rate),
                "tolerance_m": tolerance, "aiding": list(aiding.sensors),
                "method": "covariance", "runs": None, "seed": None, "level": LEVEL,
                "tolerance_on": TOLERANCE_ON,
-               "max_p95_attitude_rad": float(att.max())}
+               "max_p95_attitude_rad": float(att.max()), "linear": linear}
+    if method == "auto":
+        r["method_chosen"] = "covariance"
     p95 = truth
     if runs is not None:
         mc = aided_monte_carlo(motion, imu, aiding, rate, duration, runs, seed=seed, times=t,
@@ -474,11 +517,15 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
                  rejected_readings=mc.rejected)
     else:
         r["samples"] = int(samples)
+    _outage_attitude(at, outs, att, per)
     over = np.nonzero(p95 > tolerance)[0]
     worst = int(np.argmax(p95))
     outages_ok = all(o["within_tolerance"] for o in per)
+    # beyond its own linearisation the covariance has no word on the verdict (issue 37)
+    outside = runs is None and not linear
     r.update({
-        "suitable": bool(over.size == 0 and outages_ok),
+        "suitable": bool(over.size == 0 and outages_ok and not outside),
+        "outside_linearisation": outside,
         "outages_within_tolerance": bool(outages_ok),
         "time_p95_exceeds_s": float(t[over[0]]) if over.size else None,
         "max_p95_position_m": float(p95[worst]), "time_max_p95_s": float(t[worst]),
@@ -546,6 +593,16 @@ def outage_line(o: dict, runs: int | None = None) -> str:
             "tolerance")
 
 
+def _outage_attitude(at: AlongTruth, outs, att: FloatArray, per: list[dict]) -> None:
+    """Each outage's p95 attitude error (its largest, rad) and whether the covariance is
+    within its linearisation there (``linear``), written into ``per``."""
+    windows = [w for w in outage_windows(at, outs, active_fixes(at, [outs])[0]) if w.any()]
+    for o, w in zip(per, windows, strict=True):
+        a = float(att[w].max())
+        o["p95_attitude_max_rad"] = a
+        o["linear"] = bool(a <= ATTITUDE_VALID)
+
+
 def format_aided_verdict(r: dict) -> str:
     """The aided verdict as text (what ``imunav assess --aiding`` prints).
 
@@ -563,10 +620,16 @@ def format_aided_verdict(r: dict) -> str:
     level = 100 * r.get("level", LEVEL)
     where = (" on the rotating WGS-84 Earth" if r.get("earth") == "wgs84" else
              " (flat frame)")
+    verdict = "SUITABLE" if r["suitable"] else "NOT SUITABLE"
+    if r.get("outside_linearisation"):
+        verdict = (f"NOT SUITABLE on the covariance's word (its p95 attitude error, "
+                   f"{r['max_p95_attitude_rad']:.3g} rad, is beyond the linear model, "
+                   f"{ATTITUDE_VALID:g} rad: the verdict needs a Monte Carlo, --runs N or "
+                   "--method auto)")
     lines = [f"Aided verdict for motion {r['motion']}{where}, IMU {r['imu']} at "
              f"{r['rate_hz']:g} Hz with {', '.join(r['aiding'])} ({how}), tolerance "
              f"{r['tolerance_m']:g} m on the 3-D position error:",
-             f"  {'SUITABLE' if r['suitable'] else 'NOT SUITABLE'}: largest p95 "
+             f"  {verdict}: largest p95 "
              f"{r['max_p95_position_m']:.3g} m at t = {r['time_max_p95_s']:.4g} s, final "
              f"{r['final_p95_position_m']:.3g} m"
              + (f"; through every GNSS outage (from the last fix used to the next) the error "

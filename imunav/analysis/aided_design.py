@@ -315,7 +315,8 @@ def rank_presets(motion: BaseMotion, aiding: AidingConfig, rate: float, toleranc
                             "the filter's linearisation")
         row = {"name": name, "max_p95_position_m": float(truth.max()),
                "final_p95_position_m": float(truth[-1]),
-               "suitable": bool(truth.max() <= tolerance
+               # beyond its linearisation the covariance has no word on the verdict
+               "suitable": bool(truth.max() <= tolerance and att.max() <= ATTITUDE_VALID
                                 and all(o["within_tolerance"] for o in per)),
                "p_within_whole_outages": [o["p_within_whole_outage"] for o in per],
                "warnings": warnings,
@@ -395,7 +396,7 @@ def design_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
         check_start(gnss_times(at), float(outage_start), float(at.t[-1]),
                      1.0 / aiding.gnss.rate)
     outs = file_outages(aiding)
-    t, truth, _, per, _ = outage_pass(at, outs, tolerance=tolerance)
+    t, truth, _, per, att = outage_pass(at, outs, tolerance=tolerance)
     worst = int(np.argmax(truth))
     r: dict = {"motion": motion.name, "earth": motion.frame, "imu": imu.name,
                "rate_hz": float(rate),
@@ -409,10 +410,18 @@ def design_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
     r["error_budget_at_s"] = float(t[worst])
     r["error_budget"] = outage_budget(at, outs, float(t[worst]))
     warnings = list(at.warnings) + no_fix_warnings(at, outs)
+    r["max_p95_attitude_rad"] = float(att.max())
+    r["outside_linearisation"] = bool(att.max() > ATTITUDE_VALID)
+    if r["outside_linearisation"]:
+        warnings.append(f"the attitude error reaches a p95 of {att.max():.3g} rad, beyond the "
+                        f"filter's linearisation ({ATTITUDE_VALID:g} rad): the limits below are "
+                        "not to be trusted; check with assess --aiding --runs N")
     if find == "outage":
         f = find_outage(motion, imu, aiding, rate, tolerance, duration, start=outage_start,
                         at=at)
         r.update({k: f[k] for k in OUTAGE_KEYS})
+        r["outage_p95_attitude_max_rad"] = f["p95_attitude_max_rad"]
+        r["outside_linearisation"] = r["outside_linearisation"] or f["outside_linearisation"]
         r["outage_error_budget"] = f["error_budget"]
         r["outage_error_budget_at_s"] = f.get("error_budget_at_s")
         warnings += [w for w in f["warnings"] if w not in warnings]

@@ -12,8 +12,8 @@ May import: ``imunav.core``, ``imunav.motion``, ``imunav.sensors``, ``imunav.str
 from __future__ import annotations
 
 import numpy as np
-from scipy.stats import beta
 
+from imunav.analysis.aided_assessment import assess_aided
 from imunav.analysis.covariance import (
     ENVELOPE_POINTS,
     LINEAR_LIMIT,
@@ -24,7 +24,7 @@ from imunav.analysis.covariance import (
 )
 from imunav.analysis.gaussnorm import norm_quantile
 from imunav.analysis.metrics import nav_errors
-from imunav.analysis.montecarlo import MonteCarloResult, monte_carlo
+from imunav.analysis.montecarlo import AUTO_RUNS, CONFIDENCE, MonteCarloResult, monte_carlo, runs_interval
 from imunav.core.deprecation import renamed
 from imunav.core.validation import ImunavError, check_positive
 from imunav.estimation.alignment import WINDOW, check_alignment
@@ -131,33 +131,9 @@ def min_sample_rate(motion: BaseMotion, tolerance: float, duration: float | None
     return None
 
 
-#: The confidence of the interval on a Monte Carlo fraction (:func:`runs_interval`).
-CONFIDENCE = 0.95
-
 #: Fewest runs whose interval can clear :data:`SUITABLE_FRACTION` (all of them within):
 #: ``(1 − CONFIDENCE)/2 ≥ SUITABLE_FRACTION ** runs``.
 MIN_RUNS = int(np.ceil(np.log((1 - CONFIDENCE) / 2) / np.log(SUITABLE_FRACTION)))
-
-
-def runs_interval(inside: int, runs: int, confidence: float = CONFIDENCE) -> tuple[float, float]:
-    """The Clopper–Pearson interval of a fraction of runs: exact (conservative) for ``inside``
-    successes in ``runs`` Bernoulli trials.
-
-    Parameters
-    ----------
-    inside, runs : int
-        Runs within the tolerance, and all runs (≥ 1).
-    confidence : float
-        Two-sided.
-
-    Returns
-    -------
-    lo, hi : float
-    """
-    a = (1 - confidence) / 2
-    lo = 0.0 if inside == 0 else float(beta.ppf(a, inside, runs - inside + 1))
-    hi = 1.0 if inside == runs else float(beta.ppf(1 - a, inside + 1, runs - inside))
-    return lo, hi
 
 
 def verdict(mc: MonteCarloResult, tolerance: float, budget: dict[str, MonteCarloResult],
@@ -387,8 +363,6 @@ def _say_alignment(r: dict, alignment: str, window: float) -> None:
 #: The methods of :func:`assess`.
 METHODS = ("covariance", "montecarlo", "auto")
 
-#: Runs of the Monte Carlo that ``method="auto"`` falls back to (when no ``runs`` is given).
-AUTO_RUNS = 200
 
 
 @renamed(model="imu", output="kind")
@@ -574,11 +548,10 @@ def _assess_aided(motion, imu, rate, runs, tolerance, seed, duration, kind, budg
                           argument="runs")
     if runs is None and scheduler is not None:
         raise ImunavError("scheduler applies to a Monte Carlo (runs) only", argument="scheduler")
-    from imunav.analysis.aided_assessment import assess_aided  # it imports this module
 
     return assess_aided(motion, imu, aiding, rate, tolerance, duration, runs=runs, seed=seed,
                         scheduler=scheduler, kind=kind, covariance_step=covariance_step,
-                        progress=progress)
+                        progress=progress, method=method)
 
 
 #: Above this ratio of the whole error to its horizontal part the vertical channel dominates.

@@ -65,9 +65,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from imunav.analysis.aided_covariance import AlongTruth
-from imunav.analysis.gaussnorm import eigenvalues, norm_cdf, tabulated_quantile_bounds
+from imunav.analysis.gaussnorm import eigenvalues, norm_cdf, norm_quantile, tabulated_quantile_bounds
 from imunav.core.kernels import FloatArray
-from imunav.core.layout import DP, NAV
+from imunav.core.layout import DP, NAV, PHI
 from imunav.core.threads import limit_blas
 from imunav.estimation.kalman import gain, joseph, predict_blocks
 
@@ -102,6 +102,9 @@ class Window:
         Why the walk stopped: ``"stop"`` (the epoch asked), ``"failed"`` (no window reaching
         further can pass: an epoch's exact probability inside, or clearly the paths' fraction
         inside at every epoch so far, fell below the level), ``"end"`` (the record's end).
+    attitude_p95 : ndarray, shape (K,)
+        The p95 of the true attitude error's norm at each epoch (rad): the covariance's own
+        linearisation check (:data:`~imunav.analysis.aided_assessment.ATTITUDE_VALID`).
     """
 
     t: FloatArray
@@ -110,6 +113,7 @@ class Window:
     inside_horizontal: np.ndarray
     tolerance: float
     stopped: str
+    attitude_p95: FloatArray | None = None
 
     @property
     def samples(self) -> int:
@@ -301,6 +305,7 @@ def walk(at: AlongTruth, epochs, P_start: FloatArray, tolerance: float, *,
     rec_c: list[list[FloatArray]] = [[] for _ in range(B)]
     rec_in: list[list[np.ndarray]] = [[] for _ in range(B)]
     rec_h: list[list[np.ndarray]] = [[] for _ in range(B)]
+    rec_a: list[list[float]] = [[] for _ in range(B)]
     stopped = ["stop"] * B
     # the outages under way: their covariances (filter, truth) and paths (state × path)
     act: list[int] = []
@@ -310,7 +315,9 @@ def walk(at: AlongTruth, epochs, P_start: FloatArray, tolerance: float, *,
     def record(e, sel):
         """Record the outages ``act[sel]`` at epoch ``e``; the positions in ``act`` of those
         that stop here."""
-        cov = at.local(P[sel, 1, :k, :k], e)[:, DP, DP]
+        loc = at.local(P[sel, 1, :k, :k], e)
+        cov = loc[:, DP, DP]
+        att = norm_quantile(loc[:, PHI, PHI], 0.95)           # its p95 (rad)
         x = z[sel, DP] if at.output is None else at.output[e][DP, :k].astype(np.float32) @ \
             z[sel, :k]
         d2 = np.einsum("bis,bis->bs", x, x)
@@ -325,6 +332,7 @@ def walk(at: AlongTruth, epochs, P_start: FloatArray, tolerance: float, *,
             rec_c[b].append(cov[ii])
             rec_in[b].append(ins[ii])
             rec_h[b].append(ins_h[ii])
+            rec_a[b].append(float(att[ii]))
             if e >= stops[b]:
                 stopped[b] = "end" if e >= E else "stop"
                 done.append(i)
@@ -406,7 +414,7 @@ def walk(at: AlongTruth, epochs, P_start: FloatArray, tolerance: float, *,
         drop(record(e, list(range(len(act)))))
     return [Window(np.array(rec_t[b]), np.array(rec_c[b]).reshape(-1, 3, 3),
                    np.array(rec_in[b]).reshape(-1, S), np.array(rec_h[b]).reshape(-1, S),
-                   float(tolerance), stopped[b]) for b in range(B)]
+                   float(tolerance), stopped[b], np.array(rec_a[b])) for b in range(B)]
 
 
 def _noise_factor(Qnn: FloatArray, Qns: FloatArray, Qss: FloatArray) -> np.ndarray:

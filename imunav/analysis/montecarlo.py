@@ -25,6 +25,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.stats import beta
 
 from imunav.core.constants import G0
 from imunav.core.deprecation import renamed
@@ -452,3 +453,31 @@ def _progress(n_chunks: int, work: int, enabled: bool):
     return tqdm(total=n_chunks, desc="Monte Carlo", unit="chunk", delay=PROGRESS_DELAY)
 
 
+# ------------------------------------------------------- intervals of Monte Carlo answers
+
+#: Runs of the Monte Carlo that ``method="auto"`` falls back to (when no ``runs`` is given).
+AUTO_RUNS = 200
+
+#: The confidence of the interval on a Monte Carlo fraction (:func:`runs_interval`).
+CONFIDENCE = 0.95
+
+
+def runs_interval(inside: int, runs: int, confidence: float = CONFIDENCE) -> tuple[float, float]:
+    """The Clopper–Pearson interval of a fraction of runs: exact (conservative) for ``inside``
+    successes in ``runs`` Bernoulli trials.
+
+    Parameters
+    ----------
+    inside, runs : int
+        Runs within the tolerance, and all runs (≥ 1).
+    confidence : float
+        Two-sided.
+
+    Returns
+    -------
+    lo, hi : float
+    """
+    a = (1 - confidence) / 2
+    lo = 0.0 if inside == 0 else float(beta.ppf(a, inside, runs - inside + 1))
+    hi = 1.0 if inside == runs else float(beta.ppf(1 - a, inside + 1, runs - inside))
+    return lo, hi

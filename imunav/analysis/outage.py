@@ -30,6 +30,7 @@ from __future__ import annotations
 import numpy as np
 
 from imunav.analysis.aided_assessment import (
+    ATTITUDE_VALID,
     P95,
     TOLERANCE_ON,
     active_fixes,
@@ -313,6 +314,12 @@ def find_outage(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: f
     lost = tg[(tg > t_last + 1e-9) & (tg < t_next - 1e-9)] if a["bridged"] else tg[:0]
     if a["limited_by_motion"]:
         lost = tg[tg > t_last + 1e-9]
+    att = float(w.attitude_p95[:j].max())
+    if att > ATTITUDE_VALID:
+        warnings.append(f"the attitude error reaches a p95 of {att:.3g} rad in this outage, "
+                        f"beyond the filter's linearisation ({ATTITUDE_VALID:g} rad): the "
+                        "covariance's answer is not to be trusted; check the outage with "
+                        "assess --aiding --runs N (the Monte Carlo of the filter)")
     r = {"max_outage_s": float(L), "last_fix_s": t_last, "next_fix_s": float(t_next),
          "outage_start_s": s_best,
          "gnss_outage_s": [float(lost[0]), float(lost[-1])] if lost.size else None,
@@ -324,7 +331,8 @@ def find_outage(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: f
          "max_outage_p95_s": float(a["next_fix_p95_s"] - t_last),
          "limited_by_motion": bool(a["limited_by_motion"]), "gnss_interval_s": dt,
          "starts_compared": int(cand.size), "samples": int(samples),
-         "tolerance_on": TOLERANCE_ON}
+         "tolerance_on": TOLERANCE_ON, "p95_attitude_max_rad": att,
+         "outside_linearisation": bool(att > ATTITUDE_VALID)}
     if budget and lost.size:
         r["error_budget_at_s"] = r["t_end_s"]
         r["error_budget"] = outage_budget(at, [(float(lost[0]), float(lost[-1]))],
@@ -338,7 +346,7 @@ def find_outage(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: f
 #: The keys of an outage answer that a table of them carries.
 ROW_KEYS = ("max_outage_s", "last_fix_s", "next_fix_s", "outage_start_s",
             "p_within_whole_outage", "p_within_whole_outage_se", "position_p95_end_m",
-            "limited_by_motion")
+            "limited_by_motion", "outside_linearisation")
 
 
 def bridgeable_outages(motion: BaseMotion, aiding: AidingConfig, rate: float, tolerance: float,
