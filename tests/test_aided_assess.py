@@ -22,9 +22,9 @@ from imunav.analysis import aided_design as D
 from imunav.analysis import aided_montecarlo as MC
 from imunav.analysis import crossing as X
 from imunav.analysis import outage as O
-from imunav.core.validation import ImunavError
 from imunav.analysis.assessment import runs_interval
 from imunav.analysis.gaussnorm import norm_cdf
+from imunav.core.validation import ImunavError
 from imunav.estimation.error_model import DP
 from imunav.estimation.filters import run_filter, run_filter_batch
 from imunav.io.files import load_motion
