@@ -35,9 +35,7 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
-sys.path.insert(0, str(ROOT / "tests"))
-
-from test_estimation_filter import IMU_TERMS, drive  # noqa: E402
+sys.path.insert(0, str(ROOT))
 
 import imunav.estimation.filters as filters_module  # noqa: E402
 from imunav.analysis.aided_montecarlo import filter_monte_carlo, nees_band  # noqa: E402
@@ -48,6 +46,7 @@ from imunav.sensors.aids import Aid, AidingConfig  # noqa: E402
 from imunav.sensors.aids.zupt import Zupt  # noqa: E402
 from imunav.sensors.models import ImuModel, TriadModel  # noqa: E402
 from imunav.sensors.simulate import simulate_imu  # noqa: E402
+from tests.test_estimation_filter import IMU_TERMS, drive  # noqa: E402
 
 DEG = np.pi / 180
 #: Where the filter tests' wgs84 scenario drives (rad, rad, m), as

@@ -389,8 +389,8 @@ def aided_filter_bench(seconds: float = 3600.0, rounds: int = 1, rate: float = 2
     its trajectory is a DataFrame grown row block by row block). pyins' numba kernels are
     compiled once before the timing. Returns the timings per round and
     ``pyins_filter_over_imunav`` (median of the rounds' ratios)."""
-    sys.path.insert(0, str(HERE.parent / "tests"))
-    from test_filter_pyins import side_by_side
+    sys.path.insert(0, str(HERE.parent))
+    from tests.test_filter_pyins import side_by_side
 
     short = min(pyins_seconds, seconds)
     _, warm_imunav, warm_pyins = side_by_side(2.0, rate)
@@ -508,8 +508,8 @@ def aided_speed_bench(seconds: float = 3600.0, first: float | None = 600.0, runs
     from imunav.motion.geodetic import EarthMotion
     from imunav.sensors.aids import AidingConfig, simulate_aiding
 
-    sys.path.insert(0, str(HERE.parent / "tests"))
-    from test_filter_pyins import INITIAL, ORIGIN, drive
+    sys.path.insert(0, str(HERE.parent))
+    from tests.test_filter_pyins import INITIAL, ORIGIN, drive
 
     bmi = ImuModel.load("BMI088")
     span = seconds if first is None else min(first, seconds)

@@ -5,7 +5,6 @@ side on the same increments."""
 
 import numpy as np
 import pytest
-from test_earth import tr8350_gravity
 
 from imunav import ImunavError, Motion, States, navigate, simulate_imu
 from imunav import earth as E
@@ -15,6 +14,7 @@ from imunav.motion import EarthMotion
 from imunav.sensors.signals import ImuSignals
 from imunav.strapdown import ALGORITHMS
 from imunav.strapdown.registry import StreamNavigator, navigate_batch
+from tests.test_earth import tr8350_gravity
 
 DEG = np.pi / 180
 ORIGIN = (55 * DEG, 37 * DEG, 150.0)
