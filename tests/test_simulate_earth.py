@@ -12,7 +12,7 @@ from imunav import ImunavError, Motion, simulate_imu
 from imunav import earth as E
 from imunav.core.rotations import quat_conj, quat_rotate, quat_to_euler
 from imunav.motion import EarthMotion
-from tests.test_earth import tr8350_gravity
+from tests.earth.test_earth import tr8350_gravity
 
 DEG = np.pi / 180
 ORIGIN = (55 * DEG, 37 * DEG, 150.0)

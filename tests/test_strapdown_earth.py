@@ -14,7 +14,7 @@ from imunav.motion import EarthMotion
 from imunav.sensors.signals import ImuSignals
 from imunav.strapdown import ALGORITHMS
 from imunav.strapdown.registry import StreamNavigator, navigate_batch
-from tests.test_earth import tr8350_gravity
+from tests.earth.test_earth import tr8350_gravity
 
 DEG = np.pi / 180
 ORIGIN = (55 * DEG, 37 * DEG, 150.0)
