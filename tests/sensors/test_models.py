@@ -98,7 +98,7 @@ def test_internal_rate_chain_decimates():
 def test_imu_toml_and_bad_keys(tmp_path):
     from pathlib import Path
 
-    m = ImuModel.from_toml(Path(__file__).parents[1] / "examples" / "my_imu.toml")
+    m = ImuModel.from_toml(Path(__file__).parents[2] / "examples" / "my_imu.toml")
     assert "gyro.g_sensitivity" in m.terms() and m.internal_rate == 1000.0
     p = tmp_path / "bad.toml"
     p.write_text('[gyro]\nnoise = "1 deg/s"\n')
@@ -180,7 +180,7 @@ def test_error_stream_does_not_depend_on_chunking(kind, rng):
 
     from imunav.sensors.models import MeasureStream
 
-    model = ImuModel.from_toml(Path(__file__).parents[1] / "examples" / "my_imu.toml")
+    model = ImuModel.from_toml(Path(__file__).parents[2] / "examples" / "my_imu.toml")
     k = model.decimation(100.0)                                    # 1 kHz internal → 10
     n = 30 * k
     ideal_g = 0.01 * rng.normal(size=(n, 3)) + 0.2
@@ -216,7 +216,7 @@ def test_the_preset_page_is_the_table_generated_from_the_preset_data():
 
     from imunav.sensors.presets import preset_table
 
-    page = Path(__file__).parents[1] / "docs" / "presets.md"
+    page = Path(__file__).parents[2] / "docs" / "presets.md"
     assert page.read_text(encoding="utf-8") == preset_table(), (
         "docs/presets.md differs from the preset data: regenerate it with preset_table()")
 

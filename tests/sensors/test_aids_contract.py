@@ -18,7 +18,7 @@ from imunav.sensors.aids import AidingConfig, reading_times, simulate_aiding
 from imunav.sensors.models import ImuModel
 from imunav.sensors.simulate import simulate_imu
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 
 class WheelSpeed(Measurement):

@@ -21,7 +21,7 @@ from imunav.sensors.aids import (
     wrap_angle,
 )
 
-EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "aiding.toml"
+EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "aiding.toml"
 
 
 def test_example_lists_every_key():
