@@ -996,7 +996,7 @@ def main(argv=None):
     # Rounding over N = 1e6 sequential steps, done in another association order (blocked scan,
     # chunk carries): a random walk of ~√N·ε ≈ 2e-13, at most N·ε ≈ 2e-10 if systematic; 1e-11
     # is a sanity check on long inputs. The arithmetic itself is pinned on short inputs, where
-    # rounding is tiny, to 1e-12 against these same loops (tests/test_fast_path.py).
+    # rounding is tiny, to 1e-12 against these same loops (tests/strapdown/test_scan.py).
     bound = 1e-11
     bounds = dict.fromkeys(checks, bound)
     # two independent integrations of one attitude: imunav's Chebyshev blocks of the laws and
