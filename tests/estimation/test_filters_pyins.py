@@ -37,7 +37,7 @@ INITIAL = {"position_sigma": 1.0, "velocity_sigma": 0.1, "attitude_sigma": "0.1 
 
 
 def drive(duration: float) -> Motion:
-    """Turns and climbs at 12 m/s, body x along the velocity (as tests/test_estimation_filter)."""
+    """Turns and climbs at 12 m/s, body x along the velocity (as tests/estimation/test_filters)."""
     return Motion(x="12*t + 60*sin(0.05*t)", y="80*sin(0.031*t) + 20*sin(0.11*t)",
                   z="-3*sin(0.02*t)", yaw=f"atan2({YD}, {XD})",
                   pitch=f"atan2(-{ZD}, sqrt({XD}**2 + {YD}**2))", roll="0.05*sin(0.2*t)",

@@ -13,7 +13,7 @@ from imunav.sensors.aids import AidingConfig, Readings, simulate_aiding
 from imunav.sensors.models import ImuModel
 from imunav.sensors.simulate import simulate_imu
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 #: Issue 37's case: BMI088 at 100 Hz on the example drive, GNSS 1 Hz position only (σ 2 m)
 #: with an outage at 30–47 s, plus NHC.

@@ -13,7 +13,7 @@ from imunav.estimation.inertial import EarthSide
 from imunav.estimation.measurements import Baro, GnssFix, Heading, Nhc, Zupt
 from imunav.motion.geodetic import EarthMotion
 from imunav.sensors.aids import AidingConfig, build_measurements
-from tests.test_estimation_filter import IMU_TERMS, assert_consistent, assert_white, drive
+from tests.estimation.test_filters import IMU_TERMS, assert_consistent, assert_white, drive
 
 ORIGIN = (np.radians(50.0), np.radians(30.0), 200.0)
 
