@@ -83,7 +83,7 @@ def test_random_walk_and_gauss_markov_attitude():
     att = _diag(_cov(_model("gyro", random_walk=K)).total[:, 0:3, 0:3])
     np.testing.assert_allclose(att[1:], np.stack([K * K * t[1:] ** 3 / 3] * 3, -1), rtol=1e-12)
     # stationary Gauss–Markov bias (std s, correlation T): Var ∫₀ᵗ b = 2s²T²(t/T − 1 + e^{−t/T});
-    # s is the σ whose Allan peak is B (pinned to the textbook 0.6174 s in test_sensor_terms)
+    # s is the σ whose Allan peak is B (pinned to the textbook 0.6174 s in tests/sensors/test_terms)
     B, T = 1e-4, 7.0
     s = bias_instability_sigma(B, T)
     att = _diag(_cov(_model("gyro", bias_instability=B, bias_correlation_time=T),

@@ -32,7 +32,7 @@ from imunav.io.files import load_motion
 from imunav.sensors.aids import AidingConfig
 from imunav.sensors.models import ImuModel
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 RATE, DURATION = 50.0, 60.0
 OUTAGE = (20.0, 35.0)
 

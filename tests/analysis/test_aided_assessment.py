@@ -33,7 +33,7 @@ from imunav.sensors.models import ImuModel, measure
 from imunav.sensors.signals import ImuSignals
 from imunav.sensors.simulate import simulate_imu
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 DRIVE = ROOT / "examples" / "drive.toml"
 RATE, DURATION = 50.0, 40.0
 OUTAGE = (20.0, 35.0)

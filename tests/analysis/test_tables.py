@@ -25,7 +25,7 @@ from imunav.core.validation import check_time
 from imunav.motion.catalog import coning, figure_eight
 from imunav.strapdown import ALGORITHMS
 
-# Moves along and turns about all three axes (as in test_strapdown), shortened to 4 s.
+# Moves along and turns about all three axes (as in tests/strapdown/test_algorithms), shortened to 4 s.
 MOTION = Motion(x="3*sin(0.4*t)", y="2*t + 0.1*t**2", z="-0.5*cos(0.6*t)",
                 yaw="0.6*sin(0.5*t) + 0.1*t", pitch="0.25*sin(0.8*t)", roll="0.4*sin(1.2*t)",
                 duration=4.0)
@@ -175,7 +175,7 @@ def test_coning_budget_against_closed_form_increments():
     m = coning(5.0, f, duration=T)
     out = coning_correction_budget(m, rate)
     # exact increments of ω_b = [−2W sin²(β/2), −W sin β sin Wt, W sin β cos Wt] (catalog
-    # docstring; test_strapdown checks the rate itself), integrated by hand
+    # docstring; tests/strapdown/test_algorithms checks the rate itself), integrated by hand
     W, h = 2 * np.pi * f, 1 / rate
     tk = np.arange(0, round(T * rate) + 1) * h
     a, b = tk[:-1], tk[1:]
