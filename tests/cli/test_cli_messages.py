@@ -134,7 +134,7 @@ def test_zupt_in_assess_answers_for_a_motion_that_starts_at_rest(capsys, tmp_pat
     """``assess --aiding`` with ``[zupt]`` used to refuse every motion standing still at its
     start (every foot walk): the zero-velocity updates at the very start now act on the
     initial covariance, and the walk gets a verdict (exit 0 or 1 under --check)."""
-    walk = Path(__file__).resolve().parents[1] / "examples" / "walk.toml"
+    walk = Path(__file__).resolve().parents[2] / "examples" / "walk.toml"
     a = tmp_path / "z.toml"
     a.write_text("[zupt]\nsigma = 0.01\n")
     code, out, err = _run(capsys, "assess", walk, "--imu", "ADIS16470", "--rate", 100,

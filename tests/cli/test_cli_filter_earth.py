@@ -13,7 +13,7 @@ from imunav.earth import ned_difference
 from imunav.io.csvio import read_header
 from imunav.io.files import read_states
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 ROUTE = ROOT / "examples" / "route.toml"
 AIDING = """[gnss]
 rate = 1

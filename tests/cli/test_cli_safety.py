@@ -372,7 +372,7 @@ def test_a_deterministic_error_beyond_the_tolerance_makes_the_covariance_verdict
     from imunav.sensors.models import ImuModel
 
     Path("imu.toml").write_text(SLOW_IMU)
-    Path("eight.toml").write_text(Path(__file__).parents[1].joinpath(
+    Path("eight.toml").write_text(Path(__file__).parents[2].joinpath(
         "examples", "figure_eight.toml").read_text())
     assert main(["assess", "eight.toml", "--imu", "imu.toml", "--rate", "100", "--tolerance", "5",
                  "--check", "--json", "v.json"]) == 1

@@ -12,7 +12,7 @@ from imunav import Motion
 from imunav.cli import main
 from imunav.io import read_signals, read_states
 
-EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "figure_eight.toml"
+EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "figure_eight.toml"
 MOTION_TOML = """duration = 4.0
 [position]
 x = "t**2"

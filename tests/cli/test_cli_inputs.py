@@ -13,7 +13,7 @@ from imunav import ImuModel, ImunavError, ImuSignals, Motion, monte_carlo, navig
 from imunav.cli import main
 from imunav.io.realdata import data_path
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 
 def _digests(folder: Path) -> dict:

@@ -10,7 +10,7 @@ import pytest
 from imunav.cli import main
 from imunav.io.files import load_motion
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 ROUTE = ROOT / "examples" / "route.toml"
 AIDING = """[gnss]
 rate = 1
