@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1] / "imunav"
+ROOT = Path(__file__).resolve().parents[2] / "imunav"
 
 #: The floors, from the ground up; each room of a floor may import its own modules and the
 #: rooms of lower floors, never a room of its own floor or above. ``symbolic`` (SymPy

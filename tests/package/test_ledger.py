@@ -15,7 +15,7 @@ import pytest
 from imunav.papers import dickson_rae2021, marusenkova2020, plaksiy, tutorial
 from imunav.papers import records as R
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 NB = ROOT / "notebooks"
 LEDGER = R.load(ROOT / "figures" / "reproduction.json")
 

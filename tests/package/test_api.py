@@ -2,7 +2,7 @@
 at the top level, one name for the navigation result, no module hidden by a function of its
 name, no two modules of one name.
 
-The old spellings (and that each still works, with a warning) are ``tests/test_deprecations.py``.
+The old spellings (and that each still works, with a warning) are ``tests/package/test_deprecations.py``.
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ from imunav.io.files import load_motion
 from imunav.sensors.aids import AidingConfig
 from imunav.sensors.models import ImuModel
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def _modules() -> list[str]:

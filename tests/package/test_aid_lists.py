@@ -15,7 +15,7 @@ from pathlib import Path
 
 from imunav.sensors.aids import AIDS
 
-ROOT = Path(__file__).resolve().parents[1] / "imunav"
+ROOT = Path(__file__).resolve().parents[2] / "imunav"
 
 #: The aids the issue names (the odometer came with the registry).
 NAMED = {"gnss", "baro", "heading", "nhc", "zupt"}

@@ -25,7 +25,7 @@ import imunav
 from imunav import _aliases
 from imunav.core import deprecation as D
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 # every module imported: each declares its old names when it is
 for _m in pkgutil.walk_packages(imunav.__path__, "imunav."):
