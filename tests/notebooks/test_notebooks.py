@@ -10,7 +10,7 @@ import jupytext
 import nbformat
 import pytest
 
-NB = Path(__file__).resolve().parents[1] / "notebooks"
+NB = Path(__file__).resolve().parents[2] / "notebooks"
 SOURCES = sorted((NB / "src").glob("*.py"))
 
 
@@ -396,7 +396,7 @@ def test_the_audit_finds_what_it_should():
 
 
 def main(argv: list[str]) -> int:
-    """``python tests/test_notebooks.py [NN …]``: the audit's counts, and every unbacked number."""
+    """``python tests/notebooks/test_notebooks.py [NN …]``: the audit's counts, and every unbacked number."""
     papers = paper_values()
     stems = [p.stem for p in SOURCES if not argv or any(p.stem.startswith(a) for a in argv)]
     total = {"audited": 0, "output": 0, "code": 0, "paper": 0, "allowed": 0, None: 0}

@@ -11,7 +11,7 @@ from queue import Empty
 import pytest
 
 spec = importlib.util.spec_from_file_location(
-    "nb_run", Path(__file__).resolve().parents[1] / "notebooks" / "run.py")
+    "nb_run", Path(__file__).resolve().parents[2] / "notebooks" / "run.py")
 run = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(run)
 
