@@ -3,8 +3,8 @@
 (the NEES section's 120 s drive, the drive with its two GNSS outages — filter and smoother —, the
 drive with NHC, a barometer or a heading reference, the drive with ``examples/drive_aiding.toml``
 for every preset, the tactical preset on the rotating Earth, the foot-mounted walk with ZUPT) and
-the filter tests' scenarios at full size (``tests/test_estimation_filter.py``,
-``tests/test_estimation_filter_earth.py``). The 10 s after each GNSS outage are a window of their
+the filter tests' scenarios at full size (``tests/estimation/test_filters.py``,
+``tests/estimation/test_filters_earth.py``). The 10 s after each GNSS outage are a window of their
 own.
 
 For each scenario and block: the run-average NEES averaged over the epochs, its 95 % confidence
@@ -35,9 +35,7 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
-sys.path.insert(0, str(ROOT / "tests"))
-
-from test_estimation_filter import IMU_TERMS, drive  # noqa: E402
+sys.path.insert(0, str(ROOT))
 
 import imunav.estimation.filters as filters_module  # noqa: E402
 from imunav.analysis.aided_montecarlo import filter_monte_carlo, nees_band  # noqa: E402
@@ -48,10 +46,11 @@ from imunav.sensors.aids import Aid, AidingConfig  # noqa: E402
 from imunav.sensors.aids.zupt import Zupt  # noqa: E402
 from imunav.sensors.models import ImuModel, TriadModel  # noqa: E402
 from imunav.sensors.simulate import simulate_imu  # noqa: E402
+from tests.estimation.test_filters import IMU_TERMS, drive  # noqa: E402
 
 DEG = np.pi / 180
 #: Where the filter tests' wgs84 scenario drives (rad, rad, m), as
-#: tests/test_estimation_filter_earth.py.
+#: tests/estimation/test_filters_earth.py.
 ORIGIN_TESTS = (50 * DEG, 30 * DEG, 200.0)
 #: Where notebook 10 drives on the rotating Earth (issue 35's done-when: 45° N, 7° E, 300 m).
 ORIGIN_NB10 = (45 * DEG, 7 * DEG, 300.0)

@@ -379,7 +379,7 @@ def aided_filter_bench(seconds: float = 3600.0, rounds: int = 1, rate: float = 2
     """pyins ``run_feedback_filter`` against imunav ``run_filter`` on the same wgs84 increments
     and GNSS fixes, interleaved in this process.
 
-    The scenario of ``tests/test_filter_pyins.py`` (:func:`side_by_side`): ``seconds`` of
+    The scenario of ``tests/estimation/test_filters_pyins.py`` (:func:`side_by_side`): ``seconds`` of
     ``rate`` Hz increments on the rotating Earth at 50° N with 1 Hz GNSS positions, a gyro and
     an accelerometer each with white noise and a turn-on bias (15 error states in both), a
     0.1 s covariance step, strapdown ``coning2`` in imunav. pyins takes seconds per second of
@@ -389,8 +389,8 @@ def aided_filter_bench(seconds: float = 3600.0, rounds: int = 1, rate: float = 2
     its trajectory is a DataFrame grown row block by row block). pyins' numba kernels are
     compiled once before the timing. Returns the timings per round and
     ``pyins_filter_over_imunav`` (median of the rounds' ratios)."""
-    sys.path.insert(0, str(HERE.parent / "tests"))
-    from test_filter_pyins import side_by_side
+    sys.path.insert(0, str(HERE.parent))
+    from tests.estimation.test_filters_pyins import side_by_side
 
     short = min(pyins_seconds, seconds)
     _, warm_imunav, warm_pyins = side_by_side(2.0, rate)
@@ -483,7 +483,7 @@ def aided_speed_bench(seconds: float = 3600.0, first: float | None = 600.0, runs
     timed in this process, interleaved, the ratio the median of the rounds'.
 
     - filter over navigation: the bench's hour of ``rate`` Hz (the drive of
-      ``tests/test_filter_pyins.py`` on the WGS-84 Earth at 50° N) with a BMI088's errors,
+      ``tests/estimation/test_filters_pyins.py`` on the WGS-84 Earth at 50° N) with a BMI088's errors,
       1 Hz GNSS positions and the non-holonomic constraint (10 Hz); ``run_filter`` (the
       forward filter, default strapdown) over ``navigate`` of the same increments (the same
       algorithm, ``earth="wgs84"``), both on the first ``first`` s of the drive (None: all of
@@ -508,8 +508,8 @@ def aided_speed_bench(seconds: float = 3600.0, first: float | None = 600.0, runs
     from imunav.motion.geodetic import EarthMotion
     from imunav.sensors.aids import AidingConfig, simulate_aiding
 
-    sys.path.insert(0, str(HERE.parent / "tests"))
-    from test_filter_pyins import INITIAL, ORIGIN, drive
+    sys.path.insert(0, str(HERE.parent))
+    from tests.estimation.test_filters_pyins import INITIAL, ORIGIN, drive
 
     bmi = ImuModel.load("BMI088")
     span = seconds if first is None else min(first, seconds)
@@ -996,7 +996,7 @@ def main(argv=None):
     # Rounding over N = 1e6 sequential steps, done in another association order (blocked scan,
     # chunk carries): a random walk of ~√N·ε ≈ 2e-13, at most N·ε ≈ 2e-10 if systematic; 1e-11
     # is a sanity check on long inputs. The arithmetic itself is pinned on short inputs, where
-    # rounding is tiny, to 1e-12 against these same loops (tests/test_fast_path.py).
+    # rounding is tiny, to 1e-12 against these same loops (tests/strapdown/test_scan.py).
     bound = 1e-11
     bounds = dict.fromkeys(checks, bound)
     # two independent integrations of one attitude: imunav's Chebyshev blocks of the laws and

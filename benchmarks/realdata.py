@@ -7,7 +7,7 @@ results. Writes ``benchmarks/results_realdata.json``.
 ``--data`` is the folder holding ``rtklib_drive/`` and ``pyshoe_vicon/`` (default
 ``../shared/data`` from the repository; they are not part of it: see the README for their
 sources and licences). ``--quick`` runs the smallest piece (one outage of the drive, two walks)
-and writes nothing — what ``tests/test_realdata.py`` runs when the data are there.
+and writes nothing — what ``tests/analysis/test_recordings.py`` runs when the data are there.
 
 Everything goes through the library as ``imunav filter`` runs it (:func:`imunav.estimation.logs.
 filter_log`): the IMU read as it comes (the generic CSV reader, the RTKLIB time tags), GNSS from

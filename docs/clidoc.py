@@ -13,7 +13,7 @@ reference cannot drift from the program. ``{imunav-cli} imunav`` gives the top-l
 The directive's content adds a page note to an option, one per line, ``--flag: text`` (MyST
 inline markup; continuation lines indented), shown after the parser's own help — for the
 options whose parser help is short or missing. A note for an option the parser does not have
-fails the build (``make book`` runs Sphinx with ``-W``). ``tests/test_docs.py`` checks
+fails the build (``make book`` runs Sphinx with ``-W``). ``tests/package/test_docs.py`` checks
 :func:`options` against ``imunav <command> --help``, that ``docs/cli.md`` has a directive for
 every command, and that every option without parser help has a note.
 

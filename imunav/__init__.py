@@ -35,7 +35,7 @@ readers of recordings) and ``strapdown`` (scan, algorithms, registry) → ``esti
 navigation error model, discretisation, propagation, Kalman steps) → ``analysis`` (metrics,
 round trips, Monte Carlo, covariance, verdict, design, recordings) → ``papers`` → faces
 (``plotting``, ``reproduce``, ``cli``). A module imports only from lower floors
-(``tests/test_layering.py``; ``docs/architecture.md`` says where a change goes).
+(``tests/package/test_layering.py``; ``docs/architecture.md`` says where a change goes).
 
 May import: anything in imunav (this is the package's facade: it exports what the README uses).
 """

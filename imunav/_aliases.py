@@ -10,7 +10,7 @@ is ``sys.modules["imunav.assess"]``, or better :mod:`imunav.analysis.metrics`).
 
 Old *names* (a renamed function, argument or attribute) are the other half of the table: each
 is declared where it lived, through :mod:`imunav.core.deprecation` (``renamed``,
-``deprecated_names``, ``callable_module``), which records them; ``tests/test_deprecations.py``
+``deprecated_names``, ``callable_module``), which records them; ``tests/package/test_deprecations.py``
 calls every entry of both.
 
 May import: anything in imunav (only when an old name is imported).

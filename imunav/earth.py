@@ -24,7 +24,7 @@ eq. 2.134) with the second-order height expansion of NIMA TR8350.2 (3rd ed., 200
     γ(L, h) = γ₀(L) [1 − (2/a)(1 + f + m − 2f sin²L) h + (3/a²) h²],   m = ω_ie² a² b / GM,
 
 acting along the ellipsoid normal (down). Against the exact normal gravity of the WGS-84 level
-ellipsoid (the gradient of its normal potential, ``tests/test_earth.py``) the magnitude is within
+ellipsoid (the gradient of its normal potential, ``tests/earth/test_earth.py``) the magnitude is within
 1.1e-8 of γ at 1 km, 7.2e-8 at 10 km, 2.1e-6 at 50 km and 1.7e-5 at 100 km (the truncated third
 order, ~4(h/a)³). The small north component above the ellipsoid (Groves eq. 2.140, about
 −8.08e-9 h sin 2L m/s²) is not modelled: 8.4e-7 of γ at 1 km, 8.5e-5 at 100 km — the larger part
@@ -35,7 +35,7 @@ Gravity ``g = G − Ω × (Ω × r)``: the gravitation ``G`` (mass attraction,
 
 ECEF → geodetic (:func:`ecef_to_geodetic`) is Vermeille's closed form (J. Geodesy 78, 2004,
 94–95), exact to rounding outside the ellipsoid's evolute (within ~43 km of the Earth's centre),
-checked against pymap3d and against a 50-digit iteration in ``tests/test_earth.py``.
+checked against pymap3d and against a 50-digit iteration in ``tests/earth/test_earth.py``.
 
 May import: ``imunav.core``.
 """
@@ -150,7 +150,7 @@ def normal_gravity(lat: npt.ArrayLike, h: npt.ArrayLike = 0.0) -> FloatArray:
     (``m = ω_ie² a² b / GM``).
 
     Its truncation, measured against the exact normal gravity of the level ellipsoid (the
-    gradient of the WGS-84 normal potential, 40 digits, ``tests/test_earth.py``) at 0–90° of
+    gradient of the WGS-84 normal potential, 40 digits, ``tests/earth/test_earth.py``) at 0–90° of
     latitude: at most 1.1e-8 of γ at 1 km, 7.2e-8 at 10 km, 4.8e-7 at 30 km, 2.1e-6 at 50 km,
     1.7e-5 at 100 km (it grows as ~4 (h/a)³); 6.5e-12 on the ellipsoid (the rounding of the
     published γ_e, γ_p). Without the ``−2f sin²L`` term (Groves eq. 2.139) it was 2.1e-6 at

@@ -19,7 +19,7 @@ covariance. Hence
 so ``P_t ← (I − K H_t) P_t (I − K H_t)ᵀ + K R_t Kᵀ`` — Joseph's form, exact for any gain —
 while the filter's own ``P_f`` follows with its ``H_f`` and ``R_f`` and gives
 ``K = P_f H_fᵀ (H_f P_f H_fᵀ + R_f)⁻¹``. Where the two models agree, ``P_t = P_f`` (the
-filter is consistent; ``tests/test_aided_assess.py``). Readings at one epoch are used one
+filter is consistent; ``tests/analysis/test_aided_assessment.py``). Readings at one epoch are used one
 after another, as the filter does (its innovation of the next reading is taken about the
 state the previous one corrected, which is this recursion).
 

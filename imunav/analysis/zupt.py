@@ -272,7 +272,7 @@ def zupt_walk(motion: BaseMotion, imu: ImuModel | str, rate: float = 100.0, *,
 def _measured(motion, imu: ImuModel, rate: float, seed: int, ideal) -> ImuSignals:
     """What ``simulate_imu(motion, rate, kind="increments", imu=imu, seed=seed)`` returns,
     from the ideal increments at the internal rate: the same random streams, the same chunks
-    (``tests/test_foot_walk.py`` checks it bit for bit)."""
+    (``tests/motion/test_foot.py`` checks it bit for bit)."""
     k = imu.decimation(rate)
     n = k * interval_count(rate, float(motion.duration))
     if not isinstance(ideal, ImuSignals) or ideal.kind != "increments" or len(ideal) != n \

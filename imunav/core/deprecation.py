@@ -3,7 +3,7 @@ attribute, a renamed function that a module of the same name now answers for.
 
 Each keeps working and issues a :class:`DeprecationWarning` naming the new spelling; each is
 recorded here (:data:`RENAMED_ARGUMENTS`, :data:`RENAMED_NAMES`), so that one test calls every
-old name (``tests/test_deprecations.py``). Old *module* paths are the other half of the table:
+old name (``tests/package/test_deprecations.py``). Old *module* paths are the other half of the table:
 :data:`imunav._aliases.ALIASES`. Remove both in imunav 0.3 (with the alias table).
 
 May import: nothing from imunav (layer 0).

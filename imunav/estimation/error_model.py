@@ -38,7 +38,7 @@ map onto the errors in the local NED frame at the true position (:meth:`EarthErr
 ``K`` the curvature matrix (:func:`imunav.earth.curvature_matrix`; the frame at the estimated
 position is turned by ``K δp``) and Ω the Earth rate — so the local-level error equations of
 the textbooks (Earth-rate coupling, the Coriolis terms, the Foucault turn of the Schuler
-oscillation) follow from these (``tests/test_estimation_earth.py`` checks them against the
+oscillation) follow from these (``tests/estimation/test_error_model_earth.py`` checks them against the
 closed forms and Monte Carlo of the full nonlinear chain). An aided filter on the Earth uses the
 same state: a measurement of ECEF position, say, has ``H = C_ei [0, 0, I]``.
 

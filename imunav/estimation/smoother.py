@@ -9,7 +9,7 @@ from the last epoch (where smoothed = filtered)::
     P^s_k = P⁺_k + A_k (P^s_{k+1} − P⁻_{k+1}) A_kᵀ
 
 (Rauch, Tung & Striebel 1965). On a linear-Gaussian problem it equals the batch least-squares
-solution over all measurements (``tests/test_filter.py`` checks it to 1e-9).
+solution over all measurements (``tests/estimation/test_filters.py`` checks it to 1e-9).
 
 The error-state filter of :mod:`imunav.estimation.filters` runs :func:`rts_step` over its own
 history (:func:`smooth_history`) in the coordinates of the uncorrected state at each epoch: the

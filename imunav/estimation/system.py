@@ -49,7 +49,7 @@ NODE_BYTES = 1 << 21
 def _phi_234(d: FloatArray, h: float) -> tuple[FloatArray, FloatArray, FloatArray]:
     """``φ_i(d) = ∫₀ʰ (h−s)^i/i! e^{d s} ds`` for i = 2, 3, 4: the same arithmetic as the
     Earth model's own (the series below |d h| = 0.5), for the rows of :meth:`AidedSystem.steps`
-    (``tests/test_estimation_filter_earth.py`` compares the two)."""
+    (``tests/estimation/test_filters_earth.py`` compares the two)."""
     x = d * h
     small = np.abs(x) < 0.5
     xs = np.where(small, 1.0, x)
@@ -290,7 +290,7 @@ class AidedSystem:
         """``s → Φ(s)[:9]`` of the flat model, its products with ``B`` formed once: the rows of
         :func:`~imunav.estimation.discretisation.flat_transition` (``[I, 0, 0; F s, I, 0;
         F s²/2, I s, I]`` and ``Γ = B φ0 + A B φ1 + A² B φ2``), the φ-functions of each ``s``
-        remembered (``tests/test_estimation_filter.py`` checks it against the model's own). On
+        remembered (``tests/estimation/test_filters.py`` checks it against the model's own). On
         the Earth (``traj.gradient`` set) plus the first-order terms in the gravity gradient
         ``Γ_g`` of :meth:`EarthErrorModel.transition
         <imunav.estimation.error_model.EarthErrorModel.transition>` — its φ₂…φ₄ of each ``s``

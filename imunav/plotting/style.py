@@ -1,7 +1,7 @@
 """The one figure style of imunav, and the figure check: the plotting room's style module
 (re-exported by :mod:`imunav.plotting`, where the plot functions are). It imports nothing of
 imunav, so the papers — one floor below the plotting room — may import it (the one exception to
-the floors, ``tests/test_layering.py``): every module that draws uses the same names and colours.
+the floors, ``tests/package/test_layering.py``): every module that draws uses the same names and colours.
 ``imunav.core.style``, its former home, still imports with a ``DeprecationWarning`` until 0.3;
 so does the function ``style`` of this module, now :func:`thing_style` (it shared the module's
 name, and hid the module behind ``imunav.plotting.style``): calling the module runs it.

@@ -272,7 +272,7 @@ def preset_table() -> str:
     """The docs' preset page (``docs/presets.md``), written from :data:`PRESET_SPECS`.
 
     Regenerate the page with ``python -c "from imunav.sensors.presets import preset_table;
-    print(preset_table(), end='')" > docs/presets.md``; ``tests/test_sensors.py`` fails when
+    print(preset_table(), end='')" > docs/presets.md``; ``tests/sensors/test_models.py`` fails when
     it differs.
 
     Returns
@@ -283,7 +283,7 @@ def preset_table() -> str:
     """
     lines = ["---", "orphan: true", "---", "", "# IMU presets", "",
              "Generated from `imunav.sensors.presets.PRESET_SPECS` by `preset_table()`; do not "
-             "edit by hand (`tests/test_sensors.py` compares this page with the code).", "",
+             "edit by hand (`tests/sensors/test_models.py` compares this page with the code).", "",
              "Each term: its value and unit as an `IMU.toml` spells it, what it rests on, and "
              "its source. *checked*: the number was read against a stored copy of the source "
              "when it was entered (issue 38); *not re-read*: transcribed earlier, not checked "

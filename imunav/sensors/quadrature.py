@@ -21,7 +21,7 @@ interval, doubled until converged.
 
 Accuracy: against high-precision mpmath quadrature, each increment is within 1e-13 of the norm of the
 increment vector, or within 1e-15·h·max|f| absolute where that norm is small against the
-integrand's size over its block (``tests/test_simulate_fast.py``).
+integrand's size over its block (``tests/sensors/test_quadrature.py``).
 
 May import: ``imunav.core``.
 """

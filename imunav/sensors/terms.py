@@ -17,7 +17,7 @@ Each term of :data:`TERMS` carries
 
 A term realised in the simulation must have a linearisation: :meth:`Term.linearise` of the base
 class raises, so a new term that forgets it fails in the covariance analysis instead of being
-ignored (``tests/test_sensor_terms.py`` checks every registered term). Adding a term is one
+ignored (``tests/sensors/test_terms.py`` checks every registered term). Adding a term is one
 :class:`Term` subclass and one :func:`register` call — nothing else in imunav changes. The
 contract is :mod:`~imunav.sensors.term_base`; the built-in terms live by family in
 :mod:`~imunav.sensors.noise_terms` (random processes), :mod:`~imunav.sensors.constant_terms`

@@ -1,6 +1,6 @@
 """The algorithm table: every strapdown algorithm of imunav is a row of :data:`ALGORITHMS` with
 its signal kind, its order (the measured global convergence order of the attitude, velocity and
-position errors on smooth motion — see ``tests/test_strapdown.py``), its source, whether it is
+position errors on smooth motion — see ``tests/strapdown/test_algorithms.py``), its source, whether it is
 causal and the samples it needs around an interval; :data:`DEFAULT_ALGORITHM` names the most
 accurate one per kind and :func:`resolve` is how every caller picks one. Navigating with them
 is :mod:`imunav.strapdown.registry`.
@@ -34,7 +34,7 @@ class Algorithm:
         The signals it integrates.
     order : tuple of int
         The global convergence order ``(attitude, velocity, position)`` on smooth motion (as
-        measured in ``tests/test_strapdown.py``).
+        measured in ``tests/strapdown/test_algorithms.py``).
     summary : str
         What it does, in one line.
     source : str

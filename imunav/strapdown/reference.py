@@ -5,7 +5,7 @@ One sample at a time, scalar arithmetic only, written out from the equations in
 easy to read and to check by eye. They serve two
 purposes:
 
-- **oracles** for the vectorised fast path: ``tests/test_fast_path.py`` runs them (as plain
+- **oracles** for the vectorised fast path: ``tests/strapdown/test_scan.py`` runs them (as plain
   Python) on short inputs and requires the vectorised results to agree to ≤ 1e-12;
 - the **compiled baseline** of ``benchmarks/bench.py``: the same functions JIT-compiled with
   numba (the ``bench`` extra) are what "the speed of compiled code" means there.

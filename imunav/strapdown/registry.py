@@ -4,7 +4,7 @@ as Monte Carlo uses it).
 
 Every algorithm is a row of :data:`ALGORITHMS` with its signal kind, its order (the measured
 global convergence order of the attitude, velocity and position errors on smooth motion — see
-``tests/test_strapdown.py``), its source and whether it is causal. :data:`DEFAULT_ALGORITHM`
+``tests/strapdown/test_algorithms.py``), its source and whether it is causal. :data:`DEFAULT_ALGORITHM`
 names the most accurate one per kind; every caller that does not choose goes through it.
 
 All navigation goes through one driver, :class:`StreamNavigator`: it integrates chunks of

@@ -25,7 +25,7 @@ transport rate of a local-level mechanisation are all in the exact change of fra
 
     r_e = C_ei r_i,   v_e = C_ei (v_i − Ω × r_i),   v_n = C_ne v_e,   q_nb = q_ne ⊗ q_ei ⊗ q_ib,
 
-so each algorithm keeps its order (``tests/test_strapdown_earth.py`` measures it).
+so each algorithm keeps its order (``tests/strapdown/test_rotating.py`` measures it).
 
 **Gravity.** ``I_j`` and ``II_j`` are integrated by an 8-node Adams–Moulton-type rule on the
 gravitation at the nodes ``t_{j−7} … t_j`` (weights exact in rational arithmetic; fewer nodes

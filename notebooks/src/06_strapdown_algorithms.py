@@ -282,7 +282,7 @@ Markdown(
     f"{cheap['substeps']} Magnus-{cheap['magnus']} step** ({cheap['evals_per_interval']} "
     f"evaluations per interval), {target / cheap['max_att_deg']:.0f} times below it: it is "
     f"{name('poly8_m6')}, the default for increments. The first and last intervals have no "
-    "centred stencil and use one shifted inward; `tests/test_strapdown.py` checks that they do "
+    "centred stencil and use one shifted inward; `tests/strapdown/test_algorithms.py` checks that they do "
     "not dominate the final error.")
 
 # %% [markdown]
@@ -325,7 +325,7 @@ Markdown(
     "order: " + ", ".join(f"{name(a)} {meas[a]:.1f}" for a in multi)
     + f"; {name('coning2')} {meas['coning2']:.1f}): their coefficients are designed for "
     "coning. On general motion (one that translates and turns about all axes, measured in "
-    "`tests/test_strapdown.py`) they fall back to the documented order 3. Faster convergence "
+    "`tests/strapdown/test_algorithms.py`) they fall back to the documented order 3. Faster convergence "
     f"is not a smaller error: the largest *maximum* error of the coning algorithms here is "
     f"{name(worst)}'s, {min(ratio):.0f}–{max(ratio):.0f} times {name('coning2')}'s over these "
     "rates, because the maximum is taken at every sample and between its major updates (once per "

@@ -133,7 +133,7 @@ plt.show()
 # normal gravity, $\omega_{ib}^b = C_{bn}\,\omega_{ie} [\cos L, 0, -\sin L]$ and
 # $f^b = -C_{bn}\,[0, 0, \gamma]$; the exact simulation gives both to rounding (printed below
 # against those closed forms; the general formula above is checked in
-# `tests/test_simulate_earth.py` against an inertial-frame derivation with SymPy and against
+# `tests/motion/test_geodetic.py` against an inertial-frame derivation with SymPy and against
 # pyins' `generate_imu` — not repeated on this page). Here a level IMU, heading north, at 55° N,
 # 150 m:
 
