@@ -324,7 +324,9 @@ def rank_presets(motion: BaseMotion, aiding: AidingConfig, rate: float, toleranc
         if find == "outage":
             f = find_outage(motion, imu, aiding, rate, tolerance, duration, start=start, at=at,
                             budget=False)
+            flag = row["outside_linearisation"]
             row.update({k: f[k] for k in ROW_KEYS})
+            row["outside_linearisation"] = flag or f["outside_linearisation"]
         rows.append(row)
     # a preset beyond the linearisation last: its small p95 is not to be trusted
     rows.sort(key=lambda r: (r["outside_linearisation"], r["max_p95_position_m"]))
