@@ -33,7 +33,7 @@
 # | the periods of the free error dynamics of a vehicle | §5 |
 # | the vertical channel, free and held | §6 |
 # | when does the flat frame suffice? | §7 |
-# | every algorithm on the Earth, its order kept | §8 |
+# | the algorithms' orders measured on the Earth | §8 |
 #
 # **The equations.** imunav reads a motion in the local NED frame $n_0$ of an origin fixed to
 # the Earth; its ECEF position $r_e(t)$ is then exact, and an ideal IMU measures
@@ -475,8 +475,8 @@ print("checks passed")
 # ## Takeaways
 #
 # - On the real Earth the IMU measures the Earth's turn and a gravity that varies with latitude
-#   and height; imunav simulates both exactly and navigates with every algorithm of the family,
-#   its order and its flat-frame error kept (§8).
+#   and height; imunav simulates both exactly, and the algorithms measured in §8 (some of each
+#   kind) keep their orders and their flat-frame errors there.
 # - Horizontal errors are bounded by the Schuler loop (an 84-minute oscillation), whose plane
 #   the Earth's rotation turns; the vertical channel diverges, e-folding in about ten minutes,
 #   unless a height aid holds it.
