@@ -109,7 +109,8 @@ STALL_S = 90                 # kernel idle, cells pending, nothing run for this 
 
 def _wait_idle(page, timeout: float) -> str:
     """Until every code cell has run (no ``[*]``/``[ ]`` prompt, kernel idle, three polls in a
-    row): ``"done"``; ``"stalled"`` if the kernel sits idle with cells pending for ``STALL_S``
+    row): ``"done"``; ``"error"`` if a cell raised (Run All stops there); ``"stalled"`` if the
+    kernel sits idle with cells pending for ``STALL_S``
     (a message whose wake-up was lost on the way: see the module docstring); ``"timeout"``."""
     t0 = time.time()
     calm, last_run, last_change = 0, -1, time.time()
@@ -121,7 +122,9 @@ def _wait_idle(page, timeout: float) -> str:
             return {busy: status ? status.getAttribute('data-status') === 'busy' : false,
                     running: prompts.filter(p => p.includes('*')).length,
                     pending: prompts.filter(p => p === '[ ]:' || p === '[ ]').length,
-                    run: prompts.filter(p => /\\[\\d+\\]/.test(p)).length};
+                    run: prompts.filter(p => /\\[\\d+\\]/.test(p)).length,
+                    error: [...document.querySelectorAll('.jp-Notebook .jp-OutputArea-output')]
+                        .some(o => o.textContent.includes('Traceback (most recent call last)'))};
         }""")
         if st["run"] != last_run:
             last_run, last_change = st["run"], time.time()
@@ -131,6 +134,8 @@ def _wait_idle(page, timeout: float) -> str:
                 return "done"
         else:
             calm = 0
+            if not st["busy"] and st["error"] and not st["running"]:
+                return "error"   # Run All stops at an exception: the rest stays pending
             if not st["busy"] and time.time() - last_change > STALL_S:
                 return "stalled"
         time.sleep(1.0)
@@ -246,12 +251,18 @@ def _shutdown_kernels(page) -> None:
 
 
 def run_lab(browser, only: str | None) -> None:
-    # notebooks/ beside a copy of examples/, as in the repository: notebook 10 reads
-    # ../examples/drive.toml, as a reader running it from notebooks/ would
-    top = Path(tempfile.mkdtemp(prefix="imunav-lab-"))
+    # notebooks/ beside copies of examples/ and benchmarks/, as in the repository, and the
+    # recordings at ../shared if the repository has them: notebook 10 reads
+    # ../examples/drive.toml, notebook 11 ../benchmarks/realdata.py and ../../shared/data,
+    # as a reader running them from notebooks/ would
+    outer = Path(tempfile.mkdtemp(prefix="imunav-lab-"))
+    top = outer / "repo"
     work = top / "notebooks"
-    work.mkdir()
-    shutil.copytree(ROOT / "examples", top / "examples")
+    work.mkdir(parents=True)
+    for folder in ("examples", "benchmarks"):
+        shutil.copytree(ROOT / folder, top / folder)
+    if (ROOT.parent / "shared").is_dir():
+        (outer / "shared").symlink_to(ROOT.parent / "shared")
     for nb in NOTEBOOKS:   # copies without outputs: every figure counted is drawn by this run
         data = json.loads(nb.read_text())
         for c in data["cells"]:
@@ -360,7 +371,7 @@ def run_lab(browser, only: str | None) -> None:
                 context.close()
     finally:
         stop(lab)
-        shutil.rmtree(top, ignore_errors=True)
+        shutil.rmtree(outer, ignore_errors=True)
 
 
 # ------------------------------------------------------------------------------ book
