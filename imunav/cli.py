@@ -717,7 +717,8 @@ def format_innovations(innovations: dict, health=None) -> str:
     for name, inn in innovations.items():
         h = health.aids[name]
         if not h["readings"]:
-            lines.append(f"  {name:9} {0:>8} {0:>7} {0:>7}")
+            lines.append(f"  {name:9} {0:>8} {0:>7} {'–':>7} {'–':>8} {'–':>9} {'–':>13} "
+                         f"{'–':>8} {'–':>7}  (no readings)")
             continue
         st = inn.stats()
         gated = f"{100 * h['gated_share']:.3g}%"
@@ -729,8 +730,13 @@ def format_innovations(innovations: dict, health=None) -> str:
         units = inn.units or ("",) * st["dof"]
         rms = ", ".join(f"{v:.3g} {u}" for v, u in zip(st["rms"], units, strict=False))
         lines.append(f"  {name:9} {h['readings']:>8} {h['used']:>7} {gated:>7} {longest:>8} "
-                     f"{h['mean_nis']:>9.3g} {band:>13} {worst:>8.3f} {lag_band:>7}  {rms}")
+                     f"{_num(h['mean_nis']):>9} {band:>13} {worst:>8.3f} {lag_band:>7}  {rms}")
     return "\n".join(lines)
+
+
+def _num(x) -> str:
+    """``x`` to 3 significant digits, "–" for None or NaN (a divergence's readings)."""
+    return "–" if x is None or not np.isfinite(x) else f"{x:.3g}"
 
 
 def cmd_assess(args) -> int:
@@ -759,7 +765,7 @@ def cmd_assess(args) -> int:
     print(format_verdict(r), file=_report(out))
     if args.json:
         write_json(r, out["--json"])
-    return 1 if args.check and not r["suitable"] else 0
+    return 1 if args.check and not (r["suitable"] and r.get("conclusive", True)) else 0
 
 
 def _tables() -> str:
@@ -796,7 +802,7 @@ def _assess_aided(args, model, motion, duration, out) -> int:
     print(format_aided_verdict(r), file=_report(out))
     if args.json:
         write_json(r, out["--json"])
-    return 1 if args.check and not r["suitable"] else 0
+    return 1 if args.check and not (r["suitable"] and r.get("conclusive", True)) else 0
 
 
 def _design_aided(args, model, motion, duration, out) -> int:

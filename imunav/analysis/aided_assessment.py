@@ -506,6 +506,7 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
                 for v in quantile_interval(norms[:, np.nonzero(w)[0][-1]])]
             o["within_tolerance"] = bool(inside / n >= LEVEL
                                          and o["position_p95_max_m"] <= tolerance)
+            o["conclusive"] = not lo < LEVEL <= hi
             if lo < LEVEL <= hi:
                 warnings.append(
                     f"{n} runs cannot settle the outage {o['start']:g}–{o['end']:g} s: the "
@@ -525,6 +526,8 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
     outside = runs is None and not linear
     r.update({
         "suitable": bool(over.size == 0 and outages_ok and not outside),
+        # a Monte Carlo too short to put an outage's fraction on one side of LEVEL
+        "conclusive": all(o.get("conclusive", True) for o in per),
         "outside_linearisation": outside,
         "outages_within_tolerance": bool(outages_ok),
         "time_p95_exceeds_s": float(t[over[0]]) if over.size else None,
@@ -621,6 +624,9 @@ def format_aided_verdict(r: dict) -> str:
     where = (" on the rotating WGS-84 Earth" if r.get("earth") == "wgs84" else
              " (flat frame)")
     verdict = "SUITABLE" if r["suitable"] else "NOT SUITABLE"
+    if r["suitable"] and not r.get("conclusive", True):
+        verdict = (f"UNDECIDED ({r['runs']} runs cannot put every outage's probability on "
+                   f"one side of {level:g} %: run more, --runs)")
     if r.get("outside_linearisation"):
         verdict = (f"NOT SUITABLE on the covariance's word (its p95 attitude error, "
                    f"{r['max_p95_attitude_rad']:.3g} rad, is beyond the linear model, "
@@ -641,7 +647,7 @@ def format_aided_verdict(r: dict) -> str:
     if r.get("error_budget"):
         lines.append(f"  Error budget at t = {r['error_budget_at_s']:.4g} s (p95 of each "
                      "source alone):")
-        for k, v in list(r["error_budget"].items())[:8]:
+        for k, v in r["error_budget"].items():
             lines.append(f"    {k:28s} {v:10.3g} m")
     for w in r["warnings"]:
         lines.append(f"  warning: {w}.")

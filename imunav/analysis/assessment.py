@@ -151,7 +151,7 @@ def verdict(mc: MonteCarloResult, tolerance: float, budget: dict[str, MonteCarlo
     warnings = []
     if lo < SUITABLE_FRACTION <= hi:
         warnings.append(
-            f"{mc.runs} runs cannot support a {100 * SUITABLE_FRACTION:g} % verdict: the fraction "
+            f"{mc.runs} run{'' if mc.runs == 1 else 's'} cannot support a {100 * SUITABLE_FRACTION:g} % verdict: the fraction "
             f"of runs within {tolerance:g} m is between {100 * lo:.1f} % and {100 * hi:.1f} % "
             f"({100 * CONFIDENCE:g} % confidence, Clopper–Pearson); at least {MIN_RUNS} runs "
             "are needed, more when some exceed")
@@ -165,6 +165,8 @@ def verdict(mc: MonteCarloResult, tolerance: float, budget: dict[str, MonteCarlo
         "fraction_within_tolerance": within,
         "fraction_ci95": [lo, hi],
         "suitable": within >= SUITABLE_FRACTION,
+        # the Clopper–Pearson interval on one side of SUITABLE_FRACTION: the runs decide
+        "conclusive": not lo < SUITABLE_FRACTION <= hi,
         "time_p95_exceeds_s": float(mc.t[over[0]]) if over.size else None,
         "final_p95_position_m": float(env[-1]),
         "error_budget": dict(sorted(terms.items(), key=lambda kv: -kv[1])),
@@ -209,6 +211,7 @@ def verdict_covariance(cov: CovarianceResult | CovarianceSummary, tolerance: flo
         "fraction_within_tolerance": within,
         "fraction_ci95": None,
         "suitable": within >= SUITABLE_FRACTION,
+        "conclusive": True,                   # exact for the linear model: no sampling
         "time_p95_exceeds_s": None if first_over is None else cov.time_at(first_over),
         "final_p95_position_m": float(env_p[-1]),
         "error_budget": dict(sorted(terms.items(), key=lambda kv: -kv[1])),
@@ -341,6 +344,26 @@ def assess_covariance(motion: BaseMotion, imu: ImuModel, rate: float, tolerance:
             f"this motion (signal lag or clipping: not in the covariance, which models their "
             f"effect on noise); the error can reach the 95th percentile plus this. Check with "
             "--method montecarlo")
+    min_rate = r["min_rate_hz"]
+    if det is None and (min_rate is None or rate < min_rate):
+        # below the rate where sampling stays within SAMPLING_SHARE of the tolerance: what a
+        # perfect sensor at this rate costs (the covariance, blind to it, said SUITABLE at 0 m
+        # where the sampling alone gave 518 m)
+        try:
+            samp = sampling_error(motion, rate, duration, kind)
+        except ImunavError:
+            samp = None
+        r["sampling_position_m"] = samp
+        if samp is not None and not samp <= tolerance:
+            r["suitable"] = False
+            r["sampling_exceeds"] = True
+        elif samp is not None and samp > SAMPLING_SHARE * tolerance:
+            r["warnings"].append(
+                f"at {rate:g} Hz the sampling alone (a perfect sensor, the default algorithm) "
+                f"gives a {samp:.3g} m position error on this motion, not in the covariance: "
+                "the error can reach the 95th percentile plus this"
+                + (f"; {min_rate:g} Hz keeps it below {SAMPLING_SHARE:g} × the tolerance"
+                   if min_rate else ""))
     if motion.frame == "wgs84" and cov.terms:
         Ph = cov.total[-1:, 6:9, 6:9].copy()
         Ph[:, 2, :] = Ph[:, :, 2] = 0.0                      # the horizontal part alone
@@ -607,7 +630,8 @@ def format_verdict(r: dict) -> str:
     """
     pct = 100 * r["fraction_within_tolerance"]
     cov = r.get("method") == "covariance"
-    how = "covariance analysis" if cov else f"{r['runs']} runs (seed {r['seed']})"
+    plural = "" if r.get("runs") == 1 else "s"
+    how = "covariance analysis" if cov else f"{r['runs']} run{plural} (seed {r['seed']})"
     lines = [f"IMU {r['imu']} on motion {r['motion']} at {r['rate_hz']:g} Hz, {how}, "
              f"tolerance {r['tolerance_m']:g} m:"]
     if r.get("alignment"):
@@ -621,21 +645,33 @@ def format_verdict(r: dict) -> str:
                      f"({LINEAR_LIMIT:g} rad), where its P(position error ≤ "
                      f"{r['tolerance_m']:g} m) ≥ {pct:.1f} % is not to be trusted: the verdict "
                      "needs a Monte Carlo (--method montecarlo or auto).")
+    elif cov and r.get("sampling_exceeds"):
+        samp = r["sampling_position_m"]
+        lines.append(f"  NOT SUITABLE: at {r['rate_hz']:g} Hz the sampling alone, with a perfect "
+                     f"sensor, gives {samp:.3g} m of position error, beyond the "
+                     f"{r['tolerance_m']:g} m tolerance (the sensor noise alone: P(error ≤ "
+                     f"{r['tolerance_m']:g} m) ≥ {pct:.1f} %).")
     elif cov and r.get("deterministic_exceeds"):
         lines.append(f"  NOT SUITABLE: the filter and range alone, without noise, give "
                      f"{r['deterministic_position_m']:.3g} m of position error, beyond the "
                      f"{r['tolerance_m']:g} m tolerance (the noise alone: P(error ≤ "
                      f"{r['tolerance_m']:g} m) ≥ {pct:.1f} %).")
     elif cov and ok:
+        floor = np.floor(10 * pct) / 10      # "at least": rounded down, never up to 100.0
         lines.append(f"  SUITABLE: P(position error ≤ {r['tolerance_m']:g} m) is at least "
-                     f"{pct:.1f} % at every time {need}.")
+                     f"{floor:.1f} % at every time {need}.")
     elif cov:
         lines.append(f"  NOT SUITABLE: P(position error ≤ {r['tolerance_m']:g} m) drops to "
                      f"{pct:.1f} % (needed: {100 * SUITABLE_FRACTION:g} % at every time).")
+    elif ok and not r.get("conclusive", True):
+        lo, hi = (100 * x for x in r["fraction_ci95"])
+        lines.append(f"  UNDECIDED: {pct:.1f} % of runs stay within {r['tolerance_m']:g} m over "
+                     f"the whole motion {need}, but with {r['runs']} run{plural} the fraction could be "
+                     f"{lo:.1f}–{hi:.1f} %: run more (--runs).")
     else:
         lines.append(f"  {'SUITABLE' if ok else 'NOT SUITABLE'}: {pct:.1f} % of runs stay within "
                      f"{r['tolerance_m']:g} m over the whole motion {need}.")
-    which = "noise-driven " if r.get("deterministic_exceeds") else ""
+    which = "noise-driven " if r.get("deterministic_exceeds") or r.get("sampling_exceeds") else ""
     if r["time_p95_exceeds_s"] is None:
         lines.append(f"  The 95th percentile of the {which}position error never exceeds the "
                      f"tolerance (final {r['final_p95_position_m']:.3g} m).")

@@ -147,8 +147,8 @@ class Window:
         The estimate with an exact marginal as control variate: ``P(|x_*| ≤ r)`` at an epoch
         ``*`` of the window (:func:`~imunav.analysis.gaussnorm.norm_cdf`, exact) less the
         fraction of paths inside at ``*`` but outside at some other epoch of the window —
-        unbiased whichever epoch ``*`` is, and never above the exact probability at ``*``
-        (an upper bound of the whole); its error is ``√(δ(1 − δ)/S)`` with ``δ`` that
+        unbiased whichever epoch ``*`` is (clipped at 0), and never above the exact probability
+        at ``*`` (an upper bound of the whole); its error is ``√(δ(1 − δ)/S)`` with ``δ`` that
         fraction (``δ = (c + 1)/(S + 2)`` for ``c`` such paths: Laplace's rule, so that none
         seen is not read as no error), smallest where the marginal is: ``*`` is the epoch
         with the largest p95 by the tabulated bounds (within 3 %:
@@ -183,7 +183,7 @@ class Window:
             if jj == 0:
                 continue
             c = np.count_nonzero(ins[star[i]] & ~alive[jj - 1])
-            p[i] = P_star[i] - c / S
+            p[i] = max(P_star[i] - c / S, 0.0)   # the control variate can dip below 0
             d = (c + 1) / (S + 2)             # Laplace's rule: no count is not no error
             se[i] = np.sqrt(d * (1.0 - d) / S)
         return p.reshape(u.shape), se.reshape(u.shape)

@@ -238,7 +238,8 @@ def find_outage(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: f
         ``position_p95_end_m`` (the p95 at the last epoch before the next fix,
         ``t_end_s``), ``position_p95_max_m``, ``max_outage_p95_s`` (the longest outage by the
         per-epoch p95 alone), ``limited_by_motion``, ``gnss_interval_s``,
-        ``starts_compared``, ``samples``, ``tolerance_on`` (the 3-D position error norm:
+        ``starts_compared``, ``searched_from_s`` (the earliest start compared; None with
+        ``start``), ``samples``, ``tolerance_on`` (the 3-D position error norm:
         :data:`~imunav.analysis.aided_assessment.TOLERANCE_ON`), ``error_budget``,
         ``warnings``.
 
@@ -303,6 +304,12 @@ def find_outage(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: f
     t_next = a["next_fix_s"]
     L = t_next - t_last
     warnings = list(at.warnings)
+    searched_from = None if start is not None else float(cand[0])
+    if start is None and cand.size > 1 and b == 0:
+        warnings.append(f"the worst placement is the earliest searched (last fix at "
+                        f"{t_last:g} s; the search starts {lo_s:g} s in, once the filter has "
+                        "settled): an outage before that may be shorter still; ask for one "
+                        "with --outage-start S")
     if not a["bridged"]:
         warnings.append(f"from the fix at {t_last:g} s even the next GNSS fix comes too late: "
                         f"the probability that the position error stays within the tolerance "
@@ -335,7 +342,8 @@ def find_outage(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: f
          "position_p95_max_m": float(p95.max()),
          "max_outage_p95_s": float(a["next_fix_p95_s"] - t_last),
          "limited_by_motion": bool(a["limited_by_motion"]), "gnss_interval_s": dt,
-         "starts_compared": int(cand.size), "samples": int(samples),
+         "starts_compared": int(cand.size), "searched_from_s": searched_from,
+         "samples": int(samples),
          "tolerance_on": TOLERANCE_ON, "p95_attitude_max_rad": att,
          "outside_linearisation": bool(att > ATTITUDE_VALID)}
     if budget and lost.size:
@@ -351,7 +359,8 @@ def find_outage(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: f
 #: The keys of an outage answer that a table of them carries.
 ROW_KEYS = ("max_outage_s", "last_fix_s", "next_fix_s", "outage_start_s",
             "p_within_whole_outage", "p_within_whole_outage_se", "position_p95_end_m",
-            "limited_by_motion", "outside_linearisation")
+            "limited_by_motion", "outside_linearisation", "starts_compared",
+            "searched_from_s")
 
 
 def bridgeable_outages(motion: BaseMotion, aiding: AidingConfig, rate: float, tolerance: float,

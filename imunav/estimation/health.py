@@ -126,10 +126,14 @@ def assess_health(innovations: dict, readmitted: dict | None = None, *, ideal_im
              "mean_nis": None, "nis_band": None, "lag1": None, "lag1_band": None}
         out.aids[name] = d
         if not k:
+            out.warnings.append(f"{name}: configured but no reading fell inside the run (its "
+                                "readings file is empty, or its times are outside the IMU's): "
+                                "the filter ran without it")
             continue
         a = (1 - LEVEL) / 2
         lo, hi = chi2.ppf([a, 1 - a], dof * k) / k
-        d["mean_nis"] = float(np.mean(inn.nis))
+        finite = np.isfinite(inn.nis)
+        d["mean_nis"] = float(np.mean(inn.nis[finite])) if finite.any() else None
         d["nis_band"] = [float(lo), float(hi)]
         where = f"{name}"
         if gated / k > MAX_REJECTED:
@@ -146,12 +150,14 @@ def assess_health(innovations: dict, readmitted: dict | None = None, *, ideal_im
             out.warnings.append(f"{where}: locked out {len(back)} time(s); each time the next "
                                 f"reading was re-admitted with the covariance "
                                 f"inflated (first at t = {t0:.6g} s, ×{f0:.3g})")
-        ratio = d["mean_nis"] / dof
-        if not lo <= d["mean_nis"] <= hi and not 1 / NIS_RATIO <= ratio <= NIS_RATIO:
+        ratio = d["mean_nis"] / dof if d["mean_nis"] is not None else 1.0
+        if (d["mean_nis"] is not None and not lo <= d["mean_nis"] <= hi
+                and not 1 / NIS_RATIO <= ratio <= NIS_RATIO):
             word = "optimistic" if d["mean_nis"] > hi else "pessimistic"
             out.warnings.append(f"{where}: mean NIS {d['mean_nis']:.3g} outside its "
                                 f"{100 * LEVEL:g} % band [{lo:.3g}, {hi:.3g}] for {dof} "
-                                f"components: the filter is {word} about this aid")
+                                f"component{'' if dof == 1 else 's'}: the filter is {word} "
+                                "about this aid")
         used = int(acc.sum())
         if used >= 3:
             rho = np.asarray(inn.lag1(), float)

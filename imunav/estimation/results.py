@@ -63,8 +63,24 @@ class Innovations:
         """
         if not len(self.t):
             return np.zeros_like(self.innovation)
-        L = np.linalg.cholesky(self.S)
-        return np.linalg.solve(L, self.innovation[..., None])[..., 0]
+        S = 0.5 * (self.S + np.swapaxes(self.S, -1, -2))
+        try:
+            L = np.linalg.cholesky(S)
+        except np.linalg.LinAlgError:
+            # a covariance inflated by orders of magnitude (readings in the wrong units, a
+            # lock-out's recovery) can leave S numerically indefinite: those readings get NaN
+            # rather than stopping the whole run's report
+            L = np.full_like(S, np.nan)
+            for k in range(len(S)):
+                try:
+                    L[k] = np.linalg.cholesky(S[k])
+                except np.linalg.LinAlgError:
+                    pass
+        bad = np.isnan(L).any(axis=(-2, -1))
+        L[bad] = np.eye(S.shape[-1])
+        z = np.linalg.solve(L, self.innovation[..., None])[..., 0]
+        z[bad] = np.nan
+        return z
 
     def lag1(self) -> FloatArray:
         """Lag-1 autocorrelation of each whitened component over the accepted readings.
@@ -75,6 +91,7 @@ class Innovations:
             NaN with fewer than 3 readings.
         """
         z = self.normalised[self.accepted]
+        z = z[np.isfinite(z).all(axis=1)]
         if z.shape[0] < 3:
             return np.full(self.innovation.shape[1], np.nan)
         z = z - z.mean(axis=0)

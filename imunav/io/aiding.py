@@ -28,6 +28,7 @@ May import: ``imunav.core``, ``imunav.sensors``, ``imunav.io.csvio``.
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -43,6 +44,10 @@ FRAMES = ("flat", "wgs84")
 
 #: Latitude and longitude limits (°) of a column written in degrees.
 _DEGREE_LIMITS = {"lat": 90.0, "lon": 180.0}
+
+
+#: Angle columns read in radians (a value beyond 2π suggests a file in degrees).
+_RADIAN_ANGLES = frozenset({"yaw", "pitch", "roll", "heading"})
 
 
 def aid_files() -> dict[str, str]:
@@ -163,6 +168,12 @@ def read_aiding(folder: str | Path, sensors, frame: str = "flat", aiding=None) -
                                       f"{values[i, j]:.9g}° is outside ±{lim:g}°")
                 values = values.copy() if values.base is data else values
                 values[:, j] = np.radians(values[:, j])
+        for j, col in enumerate(got[1:]):
+            if col in _RADIAN_ANGLES and not (frame == "wgs84" and col in spec.degrees):
+                peak = float(np.max(np.abs(values[:, j]))) if len(values) else 0.0
+                if peak > 2 * np.pi + 1e-9:
+                    warnings.warn(f"{path}: {col} reaches {peak:.4g}, beyond 2π: the file is "
+                                  "read in radians — are its angles in degrees?", stacklevel=2)
         setattr(out, name, Readings(data[:, 0], values))
     return out
 

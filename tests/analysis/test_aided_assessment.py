@@ -267,6 +267,11 @@ def test_find_outage_is_the_longest_within_the_tolerance(drive):
     for s2 in (30.0, 60.0):
         g = O.find_outage(drive, imu, aiding, RATE, tol, 120.0, at=at, start=s2, budget=False)
         assert g["max_outage_s"] >= L and g["last_fix_s"] == s2 - 1.0
+        assert g["searched_from_s"] is None                         # asked, not searched
+    # the search's range is part of the answer, and an answer on its early edge says so
+    assert f["searched_from_s"] == 30.0 and f["starts_compared"] > 1
+    edge = f["outage_start_s"] == f["searched_from_s"]
+    assert edge == any("earliest searched" in w for w in f["warnings"])
 
 
 def test_filter_monte_carlo_on_dask_is_the_local_run_bit_for_bit(drive):

@@ -5,6 +5,8 @@ default linear-interpolation percentile: the p-th percentile of n sorted values 
 p/100·(n−1)), never by the code under test.
 """
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -35,11 +37,16 @@ def test_fraction_within_and_the_95_percent_boundary():
 
 
 def test_verdict_line_says_exactly_suitable_or_not():
-    first = A.format_verdict(A.verdict(_mc(RAMP), 19.0, {}, None)).splitlines()[1].strip()
+    # 100 runs all within: the Clopper–Pearson interval (96.4–100 %) clears 95 %
+    ramp100 = [[(r + 1) * k / 4 for k in range(5)] for r in range(100)]
+    first = A.format_verdict(A.verdict(_mc(ramp100), 100.0, {}, None)).splitlines()[1].strip()
     assert first.split(":")[0] == "SUITABLE"
     first = A.format_verdict(A.verdict(_mc(RAMP), 18.5, {}, None)).splitlines()[1].strip()
     assert first.split(":")[0] == "NOT SUITABLE"
-    assert "95.0 % of runs" in A.format_verdict(A.verdict(_mc(RAMP), 19.0, {}, None))
+    # 19 of 20 within: 95 % as a point estimate, but 20 runs put it anywhere in 75–99.9 %
+    text = A.format_verdict(A.verdict(_mc(RAMP), 19.0, {}, None))
+    assert text.splitlines()[1].strip().split(":")[0] == "UNDECIDED"
+    assert "95.0 % of runs" in text and "run more" in text
 
 
 def test_within_tolerance_means_the_maximum_not_the_final_error():
@@ -127,10 +134,11 @@ def test_verdict_record_in_full():
                               "confidence, Clopper–Pearson); at least 72 runs are needed, more "
                               "when some exceed"],
                  "min_rate_hz": None, "saturated_runs": 0, "error_budget": {},
-                 "time_p95_exceeds_s": None, "suitable": True, "fraction_within_tolerance": 1.0}
+                 "time_p95_exceeds_s": None, "suitable": True, "conclusive": False,
+                 "fraction_within_tolerance": 1.0}
     assert r["fraction_ci95"] == pytest.approx([lo, 1.0], rel=1e-12)
     assert set(r) == {"motion", "imu", "rate_hz", "tolerance_m", "runs", "seed",
-                      "fraction_within_tolerance", "fraction_ci95", "suitable",
+                      "fraction_within_tolerance", "fraction_ci95", "suitable", "conclusive",
                       "time_p95_exceeds_s", "final_p95_position_m", "error_budget",
                       "min_rate_hz", "saturated_runs", "method", "warnings", "envelope"}
     env = r["envelope"]
@@ -414,9 +422,9 @@ def test_few_runs_give_a_verdict_with_its_caveat():
     assert r["suitable"] is True and r["fraction_within_tolerance"] == 1.0
     ci = binomtest(1, 1).proportion_ci(0.95, method="exact")
     assert r["fraction_ci95"] == pytest.approx([ci.low, ci.high], rel=1e-9)
-    assert r["warnings"][0].startswith("1 runs cannot support a 95 % verdict: the fraction of "
+    assert r["warnings"][0].startswith("1 run cannot support a 95 % verdict: the fraction of "
                                        "runs within 100 m is between 2.5 % and 100.0 %")
-    assert "  warning: 1 runs cannot support a 95 % verdict" in A.format_verdict(r)
+    assert "  warning: 1 run cannot support a 95 % verdict" in A.format_verdict(r)
     # 72 runs all within clear 95 %; 1000 runs at 92.4 % are clearly below: no caveat
     for inside, runs in ((72, 72), (924, 1000)):
         ci = binomtest(inside, runs).proportion_ci(0.95, method="exact")
@@ -462,3 +470,19 @@ def test_no_suitable_from_a_covariance_outside_its_linear_range():
     ok = assess(m, ImuModel.from_dict({"gyro": {"bias": "0.01 deg/s"}}), 20.0, tolerance=1e9,
                 method="auto", progress=False)
     assert ok["method_chosen"] == "covariance" and ok["linear"] and ok["suitable"]
+
+
+def test_covariance_verdict_counts_the_sampling_a_perfect_sensor_suffers():
+    """The covariance models the sensor's noise, not the algorithm's sampling error: a perfect
+    IMU on the figure-eight at 0.5 Hz has hundreds of metres of error (against the analytic
+    motion), and the verdict must not say SUITABLE at "0 m" (a user's report)."""
+    from imunav import ImuModel
+    from imunav.io.files import load_motion
+
+    m = load_motion(Path(__file__).resolve().parents[2] / "examples" / "figure_eight.toml")[0]
+    r = A.assess_covariance(m, ImuModel.load("ideal"), 0.5, 5.0, progress=False)
+    assert r["suitable"] is False and r["sampling_exceeds"] is True
+    assert r["sampling_position_m"] > 50.0                     # measured 518 m
+    assert A.format_verdict(r).splitlines()[1].startswith("  NOT SUITABLE: at 0.5 Hz the sampling")
+    r = A.assess_covariance(m, ImuModel.load("ideal"), 100.0, 5.0, progress=False)
+    assert r["suitable"] is True and "sampling_position_m" not in r

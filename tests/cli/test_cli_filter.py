@@ -108,6 +108,38 @@ def test_filter_without_imu_assumes_a_stated_model_and_says_so(sim, capsys):
     assert np.all(nav[1:, -9:-6] > 0)
 
 
+def _copy_meas(sim, meas):
+    meas.mkdir()
+    for p in (sim / "meas").iterdir():
+        (meas / p.name).write_bytes(p.read_bytes())
+    return meas
+
+
+def test_heading_in_degrees_is_filtered_with_warnings_not_a_crash(sim, tmp_path, capsys):
+    """A heading file written in degrees (read as radians): named by the reader, the run ends
+    with its health (a covariance the bad readings inflated no longer crashes the report),
+    and --check fails on the warnings."""
+    meas = _copy_meas(sim, tmp_path / "deg")
+    t, yaw = np.loadtxt(meas / "heading.csv", delimiter=",", skiprows=1, unpack=True)
+    np.savetxt(meas / "heading.csv", np.column_stack([t, np.degrees(yaw)]), delimiter=",",
+               header="t,yaw", comments="", fmt="%.9g")
+    capsys.readouterr()
+    assert _filter(sim, "--check", meas=meas, out="deg.csv") == 1
+    err = capsys.readouterr().err
+    assert "heading.csv: yaw reaches" in err and "degrees?" in err
+    assert "Traceback" not in err
+
+
+def test_an_empty_aid_file_fails_check(sim, tmp_path, capsys):
+    meas = _copy_meas(sim, tmp_path / "empty")
+    (meas / "heading.csv").write_text("t,yaw\n")
+    capsys.readouterr()
+    assert _filter(sim, "--check", meas=meas, out="empty.csv") == 1
+    out, err = capsys.readouterr()
+    assert "heading: configured but no reading" in err
+    assert "(no readings)" in out
+
+
 def test_gnss_outlier_of_100_m_is_rejected(sim, tmp_path, capsys):
     """One fix moved by 100 m north: the gate rejects it (counted), and the estimate is the one
     without that fix at all (to round-off), within 3 m of the truth there."""

@@ -176,3 +176,31 @@ def test_a_log_read_in_the_wrong_units_is_refused_in_one_line(tmp_path, capsys):
     assert main(_log_args(tmp_path, path, **{"--accel-units": "m/s^2"})) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--accel-units" in err[0], err
+
+
+# ------------------------------------------------------------------- a run that lost its meaning
+
+def test_an_aid_without_readings_is_warned():
+    """An aid configured but with no reading in the run (an empty file) is named: the filter
+    ran without it, and ``filter --check`` fails on the warning."""
+    empty = Innovations("heading", np.zeros(0), np.zeros((0, 1)), np.zeros((0, 1, 1)),
+                        np.zeros(0), np.zeros(0, dtype=bool))
+    h = assess_health({"heading": empty})
+    assert h.aids["heading"]["readings"] == 0
+    assert any(w.startswith("heading: configured but no reading") for w in h.warnings)
+
+
+def test_an_indefinite_innovation_covariance_gives_nan_not_a_crash():
+    """A covariance inflated by orders of magnitude (heading readings in degrees) can leave S
+    numerically indefinite: those readings' whitened innovations are NaN, the others whitened,
+    and the mean NIS is over the finite ones (no "nan outside its band" warning)."""
+    rng = np.random.default_rng(3)
+    inn = _innovations(rng.standard_normal((50, 2)))
+    inn.S[7] = np.array([[1.0, 2.0], [2.0, 1.0]])            # eigenvalues 3 and −1
+    inn.nis[7] = np.nan
+    z = inn.normalised
+    assert np.isnan(z[7]).all() and np.isfinite(np.delete(z, 7, axis=0)).all()
+    np.testing.assert_allclose(z[8], inn.innovation[8] / np.sqrt(np.diag(inn.S[8])))
+    h = assess_health({"x": inn})
+    assert np.isfinite(h.aids["x"]["mean_nis"])
+    assert not any("nan" in w for w in h.warnings)
