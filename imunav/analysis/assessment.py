@@ -151,8 +151,9 @@ def verdict(mc: MonteCarloResult, tolerance: float, budget: dict[str, MonteCarlo
     warnings = []
     if lo < SUITABLE_FRACTION <= hi:
         warnings.append(
-            f"{mc.runs} run{'' if mc.runs == 1 else 's'} cannot support a {100 * SUITABLE_FRACTION:g} % verdict: the fraction "
-            f"of runs within {tolerance:g} m is between {100 * lo:.1f} % and {100 * hi:.1f} % "
+            f"{mc.runs} run{'' if mc.runs == 1 else 's'} cannot support a "
+            f"{100 * SUITABLE_FRACTION:g} % verdict: the fraction of runs within {tolerance:g} m "
+            f"is between {100 * lo:.1f} % and {100 * hi:.1f} % "
             f"({100 * CONFIDENCE:g} % confidence, Clopper–Pearson); at least {MIN_RUNS} runs "
             "are needed, more when some exceed")
     env = np.percentile(mc.position, PERCENTILE, axis=0)
@@ -666,8 +667,8 @@ def format_verdict(r: dict) -> str:
     elif ok and not r.get("conclusive", True):
         lo, hi = (100 * x for x in r["fraction_ci95"])
         lines.append(f"  UNDECIDED: {pct:.1f} % of runs stay within {r['tolerance_m']:g} m over "
-                     f"the whole motion {need}, but with {r['runs']} run{plural} the fraction could be "
-                     f"{lo:.1f}–{hi:.1f} %: run more (--runs).")
+                     f"the whole motion {need}, but with {r['runs']} run{plural} the fraction "
+                     f"could be {lo:.1f}–{hi:.1f} %: run more (--runs).")
     else:
         lines.append(f"  {'SUITABLE' if ok else 'NOT SUITABLE'}: {pct:.1f} % of runs stay within "
                      f"{r['tolerance_m']:g} m over the whole motion {need}.")
