@@ -68,8 +68,8 @@ DRIVE_IMU = ROOT / "examples" / "rtklib_drive_imu.toml"
 #: convention (:func:`mounting_rpy` checks the conversion).
 AUTHOR_RPY_DEG = (180.0 + 0.0, 0.0 - 6.79, 180.0 + 5.35)
 #: The author's outage schedule (imunav.analysis.recordings.outage_schedule's defaults), in words.
-OUTAGE_RULE = ("15 s outages, the first 40 s after the first GNSS epoch, then one every 45 s, "
-               "the last ending before 30 s from the end")
+OUTAGE_RULE = ("15 s outages, the first starting 40 s after the first GNSS epoch, then one "
+               "starting every 45 s, the last ending at least 30 s before the end")
 #: The author's own results on this file (measured with his filter, forward only), and his
 #: "velocity matching" (which uses the first fix after the outage: a smoother's cousin).
 AUTHOR = {"median": 6.8, "mean": 6.4, "worst": 12.8, "velocity_matching_mean": 0.44,
