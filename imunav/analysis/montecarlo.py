@@ -410,8 +410,16 @@ def run_chunks(func, task, parts: list[tuple], *, scheduler: str | None = None,
             with Client(scheduler) as client:
                 return client.gather([client.submit(func, task, *p, pure=False)
                                       for p in parts])
-        with LocalCluster(n_workers=int(workers), threads_per_worker=1, processes=True,
-                          dashboard_address=None) as cluster, Client(cluster) as client:
+        import dask
+
+        # Dask's nanny starts its workers with MALLOC_TRIM_THRESHOLD_=65536, which also fixes
+        # glibc's mmap threshold at 128 kB: every temporary of a chunk (a 100-run covariance
+        # is 1.4 MB) is then mapped, zeroed and unmapped anew — measured 1.7× slower per
+        # chunk (44 s against 26 s for 100 filter runs). Our workers keep glibc's defaults.
+        with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_":
+                              None}), \
+                LocalCluster(n_workers=int(workers), threads_per_worker=1, processes=True,
+                             dashboard_address=None) as cluster, Client(cluster) as client:
             fut = client.scatter(task, broadcast=True)
             return client.gather([client.submit(func, fut, *p, pure=False) for p in parts])
     own = None

@@ -35,6 +35,8 @@ from imunav.core.validation import ImunavError
 
 #: Bytes per block of the streaming reader.
 BLOCK = 1 << 22
+#: Files larger than this (bytes) are read with a progress bar (tqdm, on stderr).
+PROGRESS_BYTES = 64 << 20
 
 
 def read_header(path: Path, what: str) -> tuple[str, ...]:
@@ -99,11 +101,25 @@ def _locate(path: Path, header: Sequence[str], bad_row: int | None = None) -> st
 def read_chunks(path: str | Path, header: Sequence[str], what: str,
                 max_rows: int | None = None) -> Iterator[np.ndarray]:
     """Data rows of ``path`` (whose first line is ``header``) as float64 arrays (n, columns),
-    block by block; every value must be a finite number. ``max_rows`` stops early."""
+    block by block; every value must be a finite number. ``max_rows`` stops early. A file of
+    more than :data:`PROGRESS_BYTES` shows a progress bar in bytes (tqdm, on stderr)."""
+    path = Path(path)
+    size = path.stat().st_size if path.is_file() else 0
+    if size <= PROGRESS_BYTES:
+        yield from _chunks(path, header, max_rows, None)
+        return
+    from tqdm.auto import tqdm
+
+    with tqdm(total=size, desc=f"reading {path.name}", unit="B", unit_scale=True,
+              mininterval=1.0, leave=False) as bar:
+        yield from _chunks(path, header, max_rows, bar)
+
+
+def _chunks(path: Path, header: Sequence[str], max_rows: int | None, bar
+            ) -> Iterator[np.ndarray]:
     import pyarrow as pa
     import pyarrow.csv as pc
 
-    path = Path(path)
     names = list(header)
     try:
         reader = pc.open_csv(
@@ -123,6 +139,8 @@ def read_chunks(path: str | Path, header: Sequence[str], what: str,
             break
         except pa.ArrowInvalid:
             raise ImunavError(_locate(path, header)) from None
+        if bar is not None:
+            bar.update(min(BLOCK, bar.total - bar.n))   # a batch is one block of the file
         if batch.num_rows == 0:
             continue
         data = np.column_stack([batch.column(i).to_numpy(zero_copy_only=False)

@@ -183,3 +183,34 @@ def test_api_case(call, fragment):
 def test_api_refuses_arrays_that_cannot_fit_in_memory():
     with pytest.raises(ImunavError, match=r"would need about .* of memory.*streams"):
         simulate_imu(Motion(x="t"), 1e6, 1e7)
+
+
+def test_a_long_csv_is_read_with_a_progress_bar_and_the_same_rows(tmp_path, monkeypatch,
+                                                                   capsys):
+    """Above PROGRESS_BYTES a file is read with a progress bar in bytes (on stderr) that ends
+    at the file's size; the rows are those of the plain read (blocks of 4 kB: many batches)."""
+    from imunav.io import csvio
+
+    rng = np.random.default_rng(0)
+    data = np.column_stack([np.arange(3000) * 0.01, rng.standard_normal((3000, 3))])
+    path = tmp_path / "g.csv"
+    np.savetxt(path, data, delimiter=",", header="t,x,y,z", comments="", fmt="%.17g")
+    monkeypatch.setattr(csvio, "BLOCK", 4096)
+    plain = np.concatenate(list(csvio.read_chunks(path, ("t", "x", "y", "z"), "test")))
+    assert "reading g.csv" not in capsys.readouterr().err
+    import tqdm.auto
+
+    seen = {}
+
+    class Recorded(tqdm.auto.tqdm):
+        def close(self):
+            seen["n"], seen["total"] = self.n, self.total
+            super().close()
+
+    monkeypatch.setattr(tqdm.auto, "tqdm", Recorded)
+    monkeypatch.setattr(csvio, "PROGRESS_BYTES", 1000)
+    parts = list(csvio.read_chunks(path, ("t", "x", "y", "z"), "test"))
+    assert len(parts) > 10 and np.array_equal(np.concatenate(parts), plain)
+    np.testing.assert_array_equal(plain, data)               # exact: shortest round trip
+    assert "reading g.csv" in capsys.readouterr().err
+    assert seen == {"n": path.stat().st_size, "total": path.stat().st_size}   # ends at 100 %
