@@ -114,6 +114,15 @@ def drive_config(sol, T0, outs, without: tuple = ()):
     return aiding, AidingData(gnss=readings), notes
 
 
+def until(sig: ImuSignals, data: AidingData, end: float) -> ImuSignals:
+    """The IMU signals up to ``end`` (s), and ``data``'s GNSS readings cut there (in place)."""
+    keep = sig.t <= end
+    r = data.gnss
+    w = r.t <= end
+    data.gnss = Readings(r.t[w], r.values[w], r.sigma[w])
+    return ImuSignals(sig.t[keep], sig.gyro[keep], sig.accel[keep], sig.kind, sig.rate, sig.g)
+
+
 def drive(data: Path, quick: bool = False) -> dict:
     sig, sol, T0 = load_drive(data)
     t_fix, ned_fix = sol.t - T0, sol.ned()
@@ -122,12 +131,7 @@ def drive(data: Path, quick: bool = False) -> dict:
         outs = outs[:1]
     aiding, data_, notes = drive_config(sol, T0, outs)
     if quick:                                  # up to 30 s after the first outage
-        end = outs[0][1] + 30.0
-        keep = sig.t <= end
-        sig = ImuSignals(sig.t[keep], sig.gyro[keep], sig.accel[keep], sig.kind, sig.rate, sig.g)
-        r = data_.gnss
-        w = r.t <= end
-        data_.gnss = Readings(r.t[w], r.values[w], r.sigma[w])
+        sig = until(sig, data_, outs[0][1] + 30.0)
     imu = ImuModel.load(DRIVE_IMU)
     kw = dict(imu=imu, align="gnss", noise="rest", time_offset="auto", align_speed=0.3)
     secs = []

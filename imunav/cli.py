@@ -734,6 +734,12 @@ def format_innovations(innovations: dict, health=None) -> str:
     return "\n".join(lines)
 
 
+def _check_status(args, r: dict) -> int:
+    """The exit status of ``assess [--check]``: 1 with --check unless the verdict is SUITABLE
+    and the runs decide it (a Monte Carlo too short to is UNDECIDED)."""
+    return 1 if args.check and not (r["suitable"] and r.get("conclusive", True)) else 0
+
+
 def _num(x) -> str:
     """``x`` to 3 significant digits, "–" for None or NaN (a divergence's readings)."""
     return "–" if x is None or not np.isfinite(x) else f"{x:.3g}"
@@ -765,7 +771,7 @@ def cmd_assess(args) -> int:
     print(format_verdict(r), file=_report(out))
     if args.json:
         write_json(r, out["--json"])
-    return 1 if args.check and not (r["suitable"] and r.get("conclusive", True)) else 0
+    return _check_status(args, r)
 
 
 def _tables() -> str:
@@ -802,7 +808,7 @@ def _assess_aided(args, model, motion, duration, out) -> int:
     print(format_aided_verdict(r), file=_report(out))
     if args.json:
         write_json(r, out["--json"])
-    return 1 if args.check and not (r["suitable"] and r.get("conclusive", True)) else 0
+    return _check_status(args, r)
 
 
 def _design_aided(args, model, motion, duration, out) -> int:

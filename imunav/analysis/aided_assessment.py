@@ -507,7 +507,7 @@ def assess_aided(motion: BaseMotion, imu: ImuModel, aiding: AidingConfig, rate: 
             o["within_tolerance"] = bool(inside / n >= LEVEL
                                          and o["position_p95_max_m"] <= tolerance)
             o["conclusive"] = not lo < LEVEL <= hi
-            if lo < LEVEL <= hi:
+            if not o["conclusive"]:
                 warnings.append(
                     f"{n} runs cannot settle the outage {o['start']:g}–{o['end']:g} s: the "
                     f"fraction of runs within {tolerance:g} m at every epoch is between "

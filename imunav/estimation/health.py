@@ -150,11 +150,10 @@ def assess_health(innovations: dict, readmitted: dict | None = None, *, ideal_im
             out.warnings.append(f"{where}: locked out {len(back)} time(s); each time the next "
                                 f"reading was re-admitted with the covariance "
                                 f"inflated (first at t = {t0:.6g} s, ×{f0:.3g})")
-        ratio = d["mean_nis"] / dof if d["mean_nis"] is not None else 1.0
-        if (d["mean_nis"] is not None and not lo <= d["mean_nis"] <= hi
-                and not 1 / NIS_RATIO <= ratio <= NIS_RATIO):
-            word = "optimistic" if d["mean_nis"] > hi else "pessimistic"
-            out.warnings.append(f"{where}: mean NIS {d['mean_nis']:.3g} outside its "
+        m = d["mean_nis"]
+        if m is not None and not lo <= m <= hi and not 1 / NIS_RATIO <= m / dof <= NIS_RATIO:
+            word = "optimistic" if m > hi else "pessimistic"
+            out.warnings.append(f"{where}: mean NIS {m:.3g} outside its "
                                 f"{100 * LEVEL:g} % band [{lo:.3g}, {hi:.3g}] for {dof} "
                                 f"component{'' if dof == 1 else 's'}: the filter is {word} "
                                 "about this aid")

@@ -64,20 +64,11 @@ class Innovations:
         if not len(self.t):
             return np.zeros_like(self.innovation)
         S = 0.5 * (self.S + np.swapaxes(self.S, -1, -2))
-        try:
-            L = np.linalg.cholesky(S)
-        except np.linalg.LinAlgError:
-            # a covariance inflated by orders of magnitude (readings in the wrong units, a
-            # lock-out's recovery) can leave S numerically indefinite: those readings get NaN
-            # rather than stopping the whole run's report
-            L = np.full_like(S, np.nan)
-            for k in range(len(S)):
-                try:
-                    L[k] = np.linalg.cholesky(S[k])
-                except np.linalg.LinAlgError:
-                    pass
-        bad = np.isnan(L).any(axis=(-2, -1))
-        L[bad] = np.eye(S.shape[-1])
+        # a covariance inflated by orders of magnitude (readings in the wrong units, a
+        # lock-out's recovery) can leave S numerically indefinite: those readings get NaN
+        # rather than stopping the whole run's report
+        bad = ~(np.linalg.eigvalsh(S)[:, 0] > 0)
+        L = np.linalg.cholesky(np.where(bad[:, None, None], np.eye(S.shape[-1]), S))
         z = np.linalg.solve(L, self.innovation[..., None])[..., 0]
         z[bad] = np.nan
         return z

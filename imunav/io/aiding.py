@@ -169,7 +169,7 @@ def read_aiding(folder: str | Path, sensors, frame: str = "flat", aiding=None) -
                 values = values.copy() if values.base is data else values
                 values[:, j] = np.radians(values[:, j])
         for j, col in enumerate(got[1:]):
-            if col in _RADIAN_ANGLES and not (frame == "wgs84" and col in spec.degrees):
+            if col in _RADIAN_ANGLES:                 # radians here, whatever the file had
                 peak = float(np.max(np.abs(values[:, j]))) if len(values) else 0.0
                 if peak > 2 * np.pi + 1e-9:
                     warnings.warn(f"{path}: {col} reaches {peak:.4g}, beyond 2π: the file is "

@@ -41,9 +41,8 @@ from scipy.stats import chi2
 from imunav.analysis.recordings import aligned_track, armse2d, outage_errors, outage_schedule
 from imunav.estimation.logs import filter_log
 from imunav.plotting import figure, thing_style, use_book_style
-from imunav.sensors.aids import AIDS, AidingConfig, Readings
+from imunav.sensors.aids import AIDS, AidingConfig
 from imunav.sensors.models import ImuModel
-from imunav.sensors.signals import ImuSignals
 
 use_book_style()
 SEED = 0
@@ -193,13 +192,7 @@ def own_outage(start, length):
     """The drive's filter with one outage [start, start + length] (s from the first epoch)."""
     outs_ = [(start, start + length)]
     cfg_, data_, _ = bench.drive_config(sol, T0, outs_)
-    end = start + length + 5.0
-    keep = sig.t <= end
-    sig_ = ImuSignals(sig.t[keep], sig.gyro[keep], sig.accel[keep], sig.kind, sig.rate, sig.g)
-    r = data_.gnss
-    w = r.t <= end
-    data_.gnss = Readings(r.t[w], r.values[w], r.sigma[w])
-    run_ = filter_log(sig_, cfg_, data_, **KW)
+    run_ = filter_log(bench.until(sig, data_, start + length + 5.0), cfg_, data_, **KW)
     return outage_errors(run_.result, t_fix, ned_fix, outs_, cfg_.gnss.lever_arm)
 
 
